@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs Sylva's build and test dependencies from Debian packages.
+# Idempotent: does nothing (and prints nothing) when every package is present.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config ninja-build
+  libembree-dev libtbb-dev libglm-dev
+  libopenimageio-dev libopenexr-dev python3-imath libopencolorio-dev
+  libtomlplusplus-dev libpugixml-dev libcli11-dev libfmt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+if [[ "${1:-}" == "--bench" ]]; then
+  packages+=(embree-tools)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+((${#missing[@]} == 0)) && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+SUDO=""
+[[ $(id -u) -ne 0 ]] && SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq >/dev/null
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

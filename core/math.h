@@ -1,0 +1,60 @@
+#pragma once
+// Small math vocabulary on GLM. World space is right-handed, Z up (DESIGN §4).
+// Transforms are named b_from_a. Geometry and shading use float; accumulation uses double.
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace sylva {
+
+using Vec2 = glm::vec2;
+using Vec3 = glm::vec3;
+using Vec4 = glm::vec4;
+using DVec3 = glm::dvec3;
+using Mat3 = glm::mat3;
+using Mat4 = glm::mat4;
+
+inline constexpr float kPi = 3.14159265358979323846f;
+inline constexpr float kTwoPi = 2.0f * kPi;
+inline constexpr float kInvPi = 1.0f / kPi;
+inline constexpr float kInvTwoPi = 1.0f / kTwoPi;
+inline constexpr float kInvFourPi = 1.0f / (4.0f * kPi);
+
+inline constexpr float radians(float degrees) { return degrees * (kPi / 180.0f); }
+inline constexpr float degrees(float radians) { return radians * (180.0f / kPi); }
+
+template <typename T> inline constexpr T sqr(T x) { return x * x; }
+inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
+inline float safe_acos(float x) { return std::acos(std::clamp(x, -1.0f, 1.0f)); }
+inline bool is_finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// Orthonormal frame; `z` is the normal. Built with the branchless method of
+// Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
+struct Frame {
+  Vec3 x{1, 0, 0};
+  Vec3 y{0, 1, 0};
+  Vec3 z{0, 0, 1};
+
+  static Frame from_z(const Vec3& n) {
+    const float sign = std::copysign(1.0f, n.z);
+    const float a = -1.0f / (sign + n.z);
+    const float b = n.x * n.y * a;
+    return Frame{Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x),
+                 Vec3(b, sign + n.y * n.y * a, -n.y), n};
+  }
+  Vec3 to_local(const Vec3& v) const { return {glm::dot(v, x), glm::dot(v, y), glm::dot(v, z)}; }
+  Vec3 to_world(const Vec3& v) const { return x * v.x + y * v.y + z * v.z; }
+};
+
+// Unit direction from spherical angles about +Z: azimuth measured from +X towards +Y.
+inline Vec3 spherical_direction(float sin_theta, float cos_theta, float phi) {
+  return {std::clamp(sin_theta, -1.0f, 1.0f) * std::cos(phi),
+          std::clamp(sin_theta, -1.0f, 1.0f) * std::sin(phi), std::clamp(cos_theta, -1.0f, 1.0f)};
+}
+
+}  // namespace sylva

@@ -1,0 +1,31 @@
+#pragma once
+// Leaf outlines as alpha masks over the leaf quad's unit square (Weber & Penn §4.5, LeafShape).
+// (u, v) in [0,1]^2: u across the blade (0.5 = midrib), v from petiole (0) to tip (1).
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace sylva {
+
+enum class LeafShape : uint8_t {
+  Rectangle = 0,  // no cut-out: the whole quad (used for tests and far-field cards)
+  Oval,           // Weber & Penn LeafShape 0: an ellipse filling the quad
+  Triangle,
+  Oak3,           // 3-lobe oak
+  Maple3,         // 3-lobe maple
+  Maple5,         // 5-lobe maple
+  Leaflets3,      // 3 leaflets
+  Count
+};
+
+// True where the leaf is opaque. Pure, branch-light: it runs inside Embree's filter callbacks.
+bool leaf_shape_inside(LeafShape shape, float u, float v);
+
+// Fraction of the unit square covered by the outline (the leaf's area / quad area).
+float leaf_shape_coverage(LeafShape shape);
+
+std::string_view leaf_shape_name(LeafShape shape);
+std::optional<LeafShape> leaf_shape_from_name(std::string_view name);
+
+}  // namespace sylva
