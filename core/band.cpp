@@ -1,0 +1,133 @@
+#include "core/band.h"
+
+#include "core/data_path.h"
+#include "core/error.h"
+#include "core/table.h"
+
+#include <cmath>
+
+namespace sylva {
+
+namespace {
+
+DenseSpectrum normalised(const DenseSpectrum& s) {
+  DenseSpectrum r = s;
+  const double integral = s.integral();
+  if (!(integral > 0)) throw Error("spectral response has zero integral");
+  r *= static_cast<float>(1.0 / integral);
+  return r;
+}
+
+struct SrfSource {
+  const char* prefix;  // band name prefix, e.g. "S2A_"
+  const char* file;
+};
+constexpr SrfSource kSatellites[] = {
+    {"S2A_", "srf/Sentinel_2A_Spectral_Response.tsv"},
+    {"S2B_", "srf/Sentinel_2B_Spectral_Response.tsv"},
+    {"L8_", "srf/Landsat_8_Spectral_Response.tsv"},
+    {"L9_", "srf/Landsat_9_Spectral_Response.tsv"},
+};
+struct CameraBand {
+  const char* name;
+  const char* column;
+};
+constexpr CameraBand kCameraBands[] = {
+    {"nir", "Basler_acA2500-20gm_850nm_filt"},
+    {"red_edge", "Basler_acA2500-20gm_730nm_filt"},
+    {"mono", "Basler_acA2500-20gm_mono"},
+};
+constexpr const char* kCameraFile = "srf/helios_camera_nir_srf.csv";
+
+}  // namespace
+
+Band make_rgb_band() {
+  // XYZ normalised by ∫ȳ so an equal-energy spectrum of 1 has Y = 1; then XYZ → linear Rec.709
+  // (IEC 61966-2-1 matrix).
+  const float k = static_cast<float>(1.0 / cie_y().integral());
+  constexpr float m[3][3] = {{3.2404542f, -1.5371385f, -0.4985314f},
+                             {-0.9692660f, 1.8760108f, 0.0415560f},
+                             {0.0556434f, -0.2040259f, 1.0572252f}};
+  Band b;
+  b.name = "rgb";
+  b.channels = {"R", "G", "B"};
+  for (const auto& row : m) {
+    DenseSpectrum w;
+    for (int i = 0; i < kLambdaSamples; ++i) w[i] = k * (row[0] * cie_x()[i] + row[1] * cie_y()[i] + row[2] * cie_z()[i]);
+    b.weights.push_back(w);
+  }
+  b.importance = normalised(cie_x() + cie_y() + cie_z());
+  return b;
+}
+
+Band make_srf_band(const std::string& name, const DenseSpectrum& response) {
+  if (response.min_value() < 0) throw Error("band " + name + ": negative spectral response");
+  Band b;
+  b.name = name;
+  b.channels = {name + ".Y"};
+  b.weights = {normalised(response)};
+  b.importance = b.weights[0];
+  return b;
+}
+
+Band load_band(const std::string& name, const std::filesystem::path& file, const std::string& column) {
+  return make_srf_band(name, load_spectrum(file, column, Extrapolate::Zero));
+}
+
+std::vector<std::string> known_band_names() {
+  std::vector<std::string> names = {"rgb"};
+  for (const auto& c : kCameraBands) names.emplace_back(c.name);
+  for (const auto& s : kSatellites) {
+    const Table t = read_table(data_file(s.file));
+    for (size_t c = 1; c < t.header.size(); ++c) names.push_back(s.prefix + t.header[c]);
+  }
+  return names;
+}
+
+Band resolve_band(const std::string& name) {
+  if (name == "rgb") return make_rgb_band();
+  for (const auto& c : kCameraBands)
+    if (name == c.name) return load_band(name, data_file(kCameraFile), c.column);
+  for (const auto& s : kSatellites) {
+    const std::string prefix = s.prefix;
+    if (name.rfind(prefix, 0) == 0) {
+      const Table t = read_table(data_file(s.file));
+      const std::string column = name.substr(prefix.size());
+      for (size_t c = 1; c < t.header.size(); ++c)
+        if (t.header[c] == column)
+          return make_srf_band(name, DenseSpectrum::from_samples(t.columns[0], t.columns[c], Extrapolate::Zero));
+    }
+  }
+  std::string list;
+  for (const auto& n : known_band_names()) list += (list.empty() ? "" : ", ") + n;
+  throw Error("unknown band '" + name + "' (known: " + list + ")");
+}
+
+WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
+  std::vector<float> w(kLambdaSamples - 1, 0.0f);
+  for (const Band& b : bands)
+    for (int i = 0; i + 1 < kLambdaSamples; ++i) w[i] += 0.5f * (b.importance[i] + b.importance[i + 1]);
+  distribution_ = Distribution1D(std::move(w));
+}
+
+SampledWavelengths WavelengthSampler::sample(float u) const {
+  SampledWavelengths wl;
+  constexpr float range = kLambdaMax - kLambdaMin;
+  for (int i = 0; i < kLambdaCount; ++i) {
+    float ui = u + static_cast<float>(i) / kLambdaCount;
+    if (ui >= 1.0f) ui -= 1.0f;
+    float pdf = 0;
+    const float x = distribution_.sample(ui, &pdf);
+    wl.lambda_nm[i] = kLambdaMin + x * range;
+    wl.pdf[i] = pdf / range;
+  }
+  return wl;
+}
+
+float WavelengthSampler::pdf(float lambda_nm) const {
+  constexpr float range = kLambdaMax - kLambdaMin;
+  if (lambda_nm < kLambdaMin || lambda_nm >= kLambdaMax) return 0.0f;
+  return distribution_.pdf((lambda_nm - kLambdaMin) / range) / range;
+}
+
+}  // namespace sylva

@@ -1,0 +1,56 @@
+#pragma once
+// Bands: what a film channel measures. A band is a set of channels, each a weighting function
+// w_c(λ) such that the channel value is ∫ L(λ) w_c(λ) dλ:
+//  - `rgb`: CIE 1931 colour matching → XYZ (normalised so a constant spectrum of 1 has Y = 1)
+//    → linear Rec.709 primaries (D65 white); channels R, G, B.
+//  - any sensor band from a tabulated relative spectral response S(λ): w = S / ∫S, one channel
+//    `<band>.Y`, so the value is the SRF-weighted mean spectral radiance (W·m⁻²·sr⁻¹·nm⁻¹).
+// Adding a band is data, not code: name a column of an SRF table (data/srf/) or a user file.
+
+#include "core/sampling.h"
+#include "core/spectrum.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sylva {
+
+struct Band {
+  std::string name;                     // "rgb", "nir", "S2A_B8", ...
+  std::vector<std::string> channels;    // EXR channel names: "R","G","B" or "<name>.Y"
+  std::vector<DenseSpectrum> weights;   // w_c(λ), one per channel
+  DenseSpectrum importance;             // ≥ 0, ∫ = 1: where this band needs wavelength samples
+};
+
+Band make_rgb_band();
+// A band from a relative spectral response; `name` must be a valid EXR layer name.
+Band make_srf_band(const std::string& name, const DenseSpectrum& response);
+
+// Resolves a band name: "rgb"; "nir" (a silicon camera behind an 850 nm long-pass filter, Basler
+// acA2500-20gm, data/srf/helios_camera_nir_srf.csv); "red_edge" (the same camera, 730 nm filter);
+// Sentinel-2 "S2A_B1".."S2A_B12", "S2B_…"; Landsat "L8_B1".., "L9_…". Throws sylva::Error listing
+// the known names otherwise.
+Band resolve_band(const std::string& name);
+// A user band: column `column` of the table `file` (first column wavelength in nm).
+Band load_band(const std::string& name, const std::filesystem::path& file, const std::string& column);
+
+// The names resolve_band accepts, for --help and error messages.
+std::vector<std::string> known_band_names();
+
+// Samples wavelengths for a set of bands: density ∝ Σ_b importance_b, so every band gets an equal
+// share of samples wherever it is sensitive. Hero sampling: kLambdaCount wavelengths from one
+// uniform number, stratified in the CDF (Wilkie et al. 2014).
+class WavelengthSampler {
+ public:
+  WavelengthSampler() = default;
+  explicit WavelengthSampler(const std::vector<Band>& bands);
+
+  SampledWavelengths sample(float u) const;
+  float pdf(float lambda_nm) const;  // per nm
+
+ private:
+  Distribution1D distribution_;  // over [kLambdaMin, kLambdaMax]
+};
+
+}  // namespace sylva

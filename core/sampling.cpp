@@ -1,0 +1,80 @@
+#include "core/sampling.h"
+
+#include <numeric>
+
+namespace sylva {
+
+Vec2 sample_uniform_disk(Vec2 u) {
+  const Vec2 o = 2.0f * u - Vec2(1.0f);
+  if (o.x == 0 && o.y == 0) return Vec2(0.0f);
+  float r, theta;
+  if (std::abs(o.x) > std::abs(o.y)) {
+    r = o.x;
+    theta = (kPi / 4) * (o.y / o.x);
+  } else {
+    r = o.y;
+    theta = kPi / 2 - (kPi / 4) * (o.x / o.y);
+  }
+  return r * Vec2(std::cos(theta), std::sin(theta));
+}
+
+Distribution1D::Distribution1D(std::vector<float> weights) : weights_(std::move(weights)) {
+  const int n = size();
+  cdf_.assign(n + 1, 0.0f);
+  double acc = 0;
+  std::vector<double> cdf(n + 1, 0.0);
+  for (int i = 0; i < n; ++i) {
+    acc += std::max(0.0f, weights_[i]);
+    cdf[i + 1] = acc;
+  }
+  integral_ = n > 0 ? static_cast<float>(acc / n) : 0.0f;
+  for (int i = 0; i <= n; ++i)
+    cdf_[i] = acc > 0 ? static_cast<float>(cdf[i] / acc) : static_cast<float>(i) / std::max(1, n);
+  if (n > 0) cdf_[n] = 1.0f;
+}
+
+float Distribution1D::sample(float u, float* pdf, int* bin) const {
+  const int n = size();
+  // Last bin whose cdf start is <= u, among bins with non-zero mass.
+  int i = static_cast<int>(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
+  i = std::clamp(i, 0, n - 1);
+  while (i > 0 && cdf_[i + 1] == cdf_[i]) --i;
+  const float width = cdf_[i + 1] - cdf_[i];
+  const float du = width > 0 ? (u - cdf_[i]) / width : 0.5f;
+  if (pdf) *pdf = integral_ > 0 ? std::max(0.0f, weights_[i]) / integral_ : 1.0f;
+  if (bin) *bin = i;
+  return std::min((static_cast<float>(i) + std::clamp(du, 0.0f, 1.0f)) / static_cast<float>(n), 0x1.fffffep-1f);
+}
+
+float Distribution1D::pdf(float x) const {
+  const int n = size();
+  const int i = std::clamp(static_cast<int>(x * static_cast<float>(n)), 0, n - 1);
+  return integral_ > 0 ? std::max(0.0f, weights_[i]) / integral_ : 1.0f;
+}
+
+Distribution2D::Distribution2D(const std::vector<float>& weights, int nu, int nv) {
+  conditional_.reserve(nv);
+  std::vector<float> row_mass(nv);
+  for (int v = 0; v < nv; ++v) {
+    conditional_.emplace_back(std::vector<float>(weights.begin() + v * nu, weights.begin() + (v + 1) * nu));
+    row_mass[v] = conditional_.back().integral();
+  }
+  marginal_ = Distribution1D(std::move(row_mass));
+}
+
+Vec2 Distribution2D::sample(Vec2 u, float* pdf) const {
+  float pdf_v = 0, pdf_u = 0;
+  int row = 0;
+  const float v = marginal_.sample(u.y, &pdf_v, &row);
+  const float uu = conditional_[row].sample(u.x, &pdf_u);
+  if (pdf) *pdf = pdf_v * pdf_u;
+  return {uu, v};
+}
+
+float Distribution2D::pdf(Vec2 p) const {
+  const int nv = marginal_.size();
+  const int row = std::clamp(static_cast<int>(p.y * static_cast<float>(nv)), 0, nv - 1);
+  return marginal_.pdf(p.y) * conditional_[row].pdf(p.x);
+}
+
+}  // namespace sylva

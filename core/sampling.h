@@ -1,0 +1,81 @@
+#pragma once
+// Sampling routines: warps from [0,1)² and tabulated distributions. Each has a pdf function and a
+// χ² test in tests/core/test_sampling.cpp.
+
+#include "core/math.h"
+
+#include <vector>
+
+namespace sylva {
+
+// Cosine-weighted direction about +Z; pdf = cos θ / π (per steradian).
+inline Vec3 sample_cosine_hemisphere(Vec2 u) {
+  // Concentric map (Shirley & Chiu 1997) then Malley's method.
+  const Vec2 o = 2.0f * u - Vec2(1.0f);
+  Vec2 d(0.0f);
+  if (o.x != 0 || o.y != 0) {
+    float r, theta;
+    if (std::abs(o.x) > std::abs(o.y)) {
+      r = o.x;
+      theta = (kPi / 4) * (o.y / o.x);
+    } else {
+      r = o.y;
+      theta = kPi / 2 - (kPi / 4) * (o.x / o.y);
+    }
+    d = r * Vec2(std::cos(theta), std::sin(theta));
+  }
+  return {d.x, d.y, safe_sqrt(1.0f - d.x * d.x - d.y * d.y)};
+}
+inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(0.0f, cos_theta) * kInvPi; }
+
+// Uniform direction in the cone of half-angle acos(cos_max) about +Z; pdf = 1 / (2π(1 − cos_max)).
+inline Vec3 sample_uniform_cone(Vec2 u, float cos_max) {
+  const float cos_theta = (1.0f - u.x) + u.x * cos_max;
+  const float sin_theta = safe_sqrt(1.0f - cos_theta * cos_theta);
+  return spherical_direction(sin_theta, cos_theta, kTwoPi * u.y);
+}
+inline float uniform_cone_pdf(float cos_max) { return 1.0f / (kTwoPi * (1.0f - cos_max)); }
+
+// Uniform direction on the sphere; pdf = 1 / 4π.
+inline Vec3 sample_uniform_sphere(Vec2 u) {
+  const float z = 1.0f - 2.0f * u.x;
+  return spherical_direction(safe_sqrt(1.0f - z * z), z, kTwoPi * u.y);
+}
+
+// Uniform point on the unit disc (concentric map).
+Vec2 sample_uniform_disk(Vec2 u);
+
+// Piecewise-constant 1-D distribution over [0, 1) with n equal bins.
+class Distribution1D {
+ public:
+  Distribution1D() = default;
+  explicit Distribution1D(std::vector<float> weights);
+
+  // Continuous sample in [0,1); `pdf` is the density on [0,1); `bin` the chosen bin.
+  float sample(float u, float* pdf, int* bin = nullptr) const;
+  float pdf(float x) const;
+  int size() const { return static_cast<int>(weights_.size()); }
+  float integral() const { return integral_; }  // mean of the weights
+  float weight(int i) const { return weights_[i]; }
+
+ private:
+  std::vector<float> weights_;
+  std::vector<float> cdf_;  // size n+1
+  float integral_ = 0;
+};
+
+// Piecewise-constant 2-D distribution over [0,1)², rows indexed by v, columns by u.
+class Distribution2D {
+ public:
+  Distribution2D() = default;
+  Distribution2D(const std::vector<float>& weights, int nu, int nv);
+
+  Vec2 sample(Vec2 u, float* pdf) const;
+  float pdf(Vec2 p) const;
+
+ private:
+  std::vector<Distribution1D> conditional_;
+  Distribution1D marginal_;
+};
+
+}  // namespace sylva

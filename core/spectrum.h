@@ -1,0 +1,89 @@
+#pragma once
+// Spectra. Wavelengths in nanometres; radiance in W·m⁻²·sr⁻¹·nm⁻¹ (DESIGN §4).
+//
+// Every spectrum the renderer evaluates per hit is resampled once onto a dense 1 nm grid over
+// [kLambdaMin, kLambdaMax], so evaluation is one lerp. Paths carry kLambdaCount wavelengths at
+// once (hero wavelength sampling, Wilkie et al. 2014).
+
+#include "core/math.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sylva {
+
+inline constexpr float kLambdaMin = 300.0f;
+inline constexpr float kLambdaMax = 2500.0f;
+inline constexpr int kLambdaSamples = static_cast<int>(kLambdaMax - kLambdaMin) + 1;
+inline constexpr int kLambdaCount = 4;
+
+// A value per carried wavelength (throughput, radiance, reflectance).
+using SampledSpectrum = glm::vec4;
+static_assert(kLambdaCount == 4, "SampledSpectrum is a vec4");
+
+inline float max_component(const SampledSpectrum& s) { return std::max(std::max(s.x, s.y), std::max(s.z, s.w)); }
+inline float average(const SampledSpectrum& s) { return 0.25f * (s.x + s.y + s.z + s.w); }
+inline bool is_black(const SampledSpectrum& s) { return s.x == 0 && s.y == 0 && s.z == 0 && s.w == 0; }
+
+// The carried wavelengths and the probability density each was drawn with (per nm).
+struct SampledWavelengths {
+  SampledSpectrum lambda_nm{550.0f};
+  SampledSpectrum pdf{1.0f};
+};
+
+// What a tabulated spectrum is outside its table.
+enum class Extrapolate { Zero, Clamp };
+
+class DenseSpectrum {
+ public:
+  DenseSpectrum() : values_(kLambdaSamples, 0.0f) {}
+  static DenseSpectrum constant(float value);
+  // Piecewise-linear through (lambda_nm[i], value[i]) (sorted ascending), averaged over each 1 nm
+  // bin's neighbourhood so finer tables are not aliased. NaN entries are skipped.
+  static DenseSpectrum from_samples(const std::vector<double>& lambda_nm, const std::vector<double>& value,
+                                    Extrapolate outside);
+
+  float eval(float lambda_nm) const {
+    const float x = std::clamp(lambda_nm - kLambdaMin, 0.0f, static_cast<float>(kLambdaSamples - 1));
+    const int i = std::min(static_cast<int>(x), kLambdaSamples - 2);
+    const float f = x - static_cast<float>(i);
+    return values_[i] + f * (values_[i + 1] - values_[i]);
+  }
+  SampledSpectrum eval(const SampledWavelengths& wl) const {
+    return {eval(wl.lambda_nm.x), eval(wl.lambda_nm.y), eval(wl.lambda_nm.z), eval(wl.lambda_nm.w)};
+  }
+
+  // ∫ value dλ over the grid (trapezoid, nm).
+  double integral() const;
+  // ∫ this·other dλ.
+  double integral_product(const DenseSpectrum& other) const;
+  float min_value() const;
+  float max_value() const;
+
+  float& operator[](int i) { return values_[i]; }
+  float operator[](int i) const { return values_[i]; }
+  static float grid_lambda(int i) { return kLambdaMin + static_cast<float>(i); }
+
+  DenseSpectrum& operator*=(float s);
+  friend DenseSpectrum operator*(const DenseSpectrum& a, const DenseSpectrum& b);
+  friend DenseSpectrum operator+(const DenseSpectrum& a, const DenseSpectrum& b);
+  friend DenseSpectrum operator-(const DenseSpectrum& a, const DenseSpectrum& b);
+
+ private:
+  std::vector<float> values_;
+};
+
+// Loads one column of a data table as a spectrum (first column = wavelength in nm).
+DenseSpectrum load_spectrum(const std::filesystem::path& table, const std::string& column, Extrapolate outside);
+
+// The standard spectra Sylva ships (data/), loaded once and cached. Thread-safe.
+const DenseSpectrum& cie_x();
+const DenseSpectrum& cie_y();
+const DenseSpectrum& cie_z();
+// ASTM G173-03 direct normal + circumsolar irradiance, W·m⁻²·nm⁻¹.
+const DenseSpectrum& astm_g173_direct();
+// ASTM G173-03 global on the 37° sun-facing tilt, W·m⁻²·nm⁻¹.
+const DenseSpectrum& astm_g173_global();
+
+}  // namespace sylva

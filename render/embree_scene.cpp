@@ -1,0 +1,209 @@
+#include "render/embree_scene.h"
+
+#include "core/error.h"
+#include "geometry/leaf_shape.h"
+
+#include <embree3/rtcore.h>
+#include <fmt/core.h>
+
+#include <atomic>
+#include <chrono>
+
+namespace sylva {
+
+namespace {
+
+// Leaf alpha: reject hits outside the leaf outline (Weber & Penn §4.5 leaf shapes).
+void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* shapes = static_cast<const LeafShape*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i);
+    const float v = RTCHitN_v(args->hit, args->N, i);
+    if (!leaf_shape_inside(shapes[prim], u, v)) args->valid[i] = 0;
+  }
+}
+
+void error_callback(void*, RTCError code, const char* message) {
+  // Embree reports API misuse here; surface it as an exception at the next check.
+  fmt::print(stderr, "sylva: embree error {}: {}\n", static_cast<int>(code), message ? message : "");
+}
+
+std::atomic<int64_t> g_embree_bytes{0};
+std::atomic<int64_t> g_embree_peak{0};
+
+bool memory_monitor(void*, ssize_t bytes, bool) {
+  const int64_t now = g_embree_bytes.fetch_add(bytes) + bytes;
+  int64_t peak = g_embree_peak.load();
+  while (now > peak && !g_embree_peak.compare_exchange_weak(peak, now)) {
+  }
+  return true;
+}
+
+void check(RTCDevice device, const char* what) {
+  const RTCError e = rtcGetDeviceError(device);
+  if (e != RTC_ERROR_NONE) throw Error(fmt::format("embree: {} failed (error {})", what, static_cast<int>(e)));
+}
+
+}  // namespace
+
+struct EmbreeScene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene top = nullptr;
+  std::vector<RTCScene> prototypes;
+  std::vector<unsigned> leaf_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
+  std::vector<uint32_t> instance_prototype;
+
+  ~Impl() {
+    if (top) rtcReleaseScene(top);
+    for (RTCScene s : prototypes)
+      if (s) rtcReleaseScene(s);
+    if (device) rtcReleaseDevice(device);
+  }
+};
+
+EmbreeScene::EmbreeScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+  const auto start = std::chrono::steady_clock::now();
+  g_embree_peak = g_embree_bytes.load();
+  const int64_t base_bytes = g_embree_bytes.load();
+  impl_->device = rtcNewDevice("verbose=0");
+  if (!impl_->device) throw Error("embree: cannot create device");
+  rtcSetDeviceErrorFunction(impl_->device, error_callback, nullptr);
+  rtcSetDeviceMemoryMonitorFunction(impl_->device, memory_monitor, nullptr);
+  RTCDevice device = impl_->device;
+
+  for (const Prototype& proto : scene.prototypes) {
+    RTCScene s = rtcNewScene(device);
+    rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_HIGH);
+    unsigned leaf_id = RTC_INVALID_GEOMETRY_ID;
+    const TriangleMesh& tm = proto.triangles;
+    if (!tm.triangles.empty()) {
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), tm.positions.size()));
+      for (size_t i = 0; i < tm.positions.size(); ++i) {
+        v[3 * i] = tm.positions[i].x;
+        v[3 * i + 1] = tm.positions[i].y;
+        v[3 * i + 2] = tm.positions[i].z;
+      }
+      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), tm.triangles.size()));
+      for (size_t i = 0; i < tm.triangles.size(); ++i) {
+        const glm::uvec3 t = tm.triangles[i];
+        if (t.x >= tm.positions.size() || t.y >= tm.positions.size() || t.z >= tm.positions.size())
+          throw Error(fmt::format("prototype '{}': triangle {} indexes a missing vertex", proto.name, i));
+        idx[3 * i] = t.x;
+        idx[3 * i + 1] = t.y;
+        idx[3 * i + 2] = t.z;
+      }
+      rtcCommitGeometry(g);
+      const unsigned id = rtcAttachGeometry(s, g);
+      rtcReleaseGeometry(g);
+      if (id != 0) throw Error("embree: unexpected triangle geometry id");
+      stats_.triangles += tm.triangles.size();
+    }
+    const LeafQuads& lq = proto.leaves;
+    if (lq.size() > 0) {
+      if (lq.corners.size() != 4 * lq.size())
+        throw Error(fmt::format("prototype '{}': leaf quads need 4 corners per leaf", proto.name));
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), lq.corners.size()));
+      for (size_t i = 0; i < lq.corners.size(); ++i) {
+        v[3 * i] = lq.corners[i].x;
+        v[3 * i + 1] = lq.corners[i].y;
+        v[3 * i + 2] = lq.corners[i].z;
+      }
+      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
+                                                                 4 * sizeof(unsigned), lq.size()));
+      for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);
+      rtcSetGeometryUserData(g, const_cast<LeafShape*>(lq.shapes.data()));
+      rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter);
+      rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter);
+      rtcCommitGeometry(g);
+      leaf_id = rtcAttachGeometry(s, g);
+      rtcReleaseGeometry(g);
+      stats_.leaf_quads += lq.size();
+    }
+    rtcCommitScene(s);
+    check(device, "building a prototype BVH");
+    impl_->prototypes.push_back(s);
+    impl_->leaf_geom_id.push_back(leaf_id);
+  }
+
+  impl_->top = rtcNewScene(device);
+  rtcSetSceneBuildQuality(impl_->top, RTC_BUILD_QUALITY_HIGH);
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    const Instance& inst = scene.instances[i];
+    if (inst.prototype >= impl_->prototypes.size())
+      throw Error(fmt::format("instance {} refers to missing prototype {}", i, inst.prototype));
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(g, impl_->prototypes[inst.prototype]);
+    float xfm[12];
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r) xfm[3 * c + r] = inst.world_from_object[c][r];
+    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(impl_->top, g);
+    rtcReleaseGeometry(g);
+    if (id != i) throw Error("embree: unexpected instance id");
+    impl_->instance_prototype.push_back(inst.prototype);
+    const Prototype& p = scene.prototypes[inst.prototype];
+    stats_.instanced_triangles += p.triangles.triangles.size();
+    stats_.instanced_leaf_quads += p.leaves.size();
+  }
+  stats_.instances = scene.instances.size();
+  rtcCommitScene(impl_->top);
+  check(device, "building the instance BVH");
+  stats_.bvh_bytes = static_cast<size_t>(std::max<int64_t>(0, g_embree_peak.load() - base_bytes));
+  stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+EmbreeScene::~EmbreeScene() = default;
+
+bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = ray.origin.x;
+  rh.ray.org_y = ray.origin.y;
+  rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x;
+  rh.ray.dir_y = ray.direction.y;
+  rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = ray.t_max;
+  rh.ray.mask = 0xffffffffu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->top, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit->t = rh.ray.tfar;
+  hit->instance = rh.hit.instID[0];
+  hit->primitive = rh.hit.primID;
+  hit->u = rh.hit.u;
+  hit->v = rh.hit.v;
+  if (hit->instance == RTC_INVALID_GEOMETRY_ID) return false;
+  hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[impl_->instance_prototype[hit->instance]];
+  return true;
+}
+
+bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_max) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray{};
+  ray.org_x = origin.x;
+  ray.org_y = origin.y;
+  ray.org_z = origin.z;
+  ray.dir_x = direction.x;
+  ray.dir_y = direction.y;
+  ray.dir_z = direction.z;
+  ray.tnear = 0.0f;
+  ray.tfar = t_max;
+  ray.mask = 0xffffffffu;
+  rtcOccluded1(impl_->top, &context, &ray);
+  return ray.tfar < 0.0f;
+}
+
+}  // namespace sylva

@@ -1,0 +1,51 @@
+#pragma once
+// The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp (DESIGN §6).
+// One BVH per prototype (triangles and leaf quads as two geometries of one Embree scene), one
+// single-level instance per placed copy. Leaf outlines are alpha masks applied in both the
+// intersection and the occlusion filter, so shadows see the cut-out.
+
+#include "render/camera.h"
+#include "render/scene.h"
+
+#include <cstdint>
+#include <memory>
+
+namespace sylva {
+
+struct RayHit {
+  float t = 0;
+  uint32_t instance = 0;
+  bool leaf = false;     // hit a leaf quad (else a triangle)
+  uint32_t primitive = 0;
+  float u = 0, v = 0;    // Embree's barycentrics (triangles) or quad coordinates (leaves)
+};
+
+struct EmbreeStats {
+  size_t bvh_bytes = 0;  // peak memory Embree reported through its memory monitor
+  double build_ms = 0;
+  size_t triangles = 0, leaf_quads = 0, instances = 0;  // unique geometry
+  size_t instanced_triangles = 0, instanced_leaf_quads = 0;
+};
+
+class EmbreeScene {
+ public:
+  // Builds the BVHs. `scene` must outlive this object (leaf shapes are read from it in filters).
+  explicit EmbreeScene(const Scene& scene);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  // Closest hit with t in [0, ray.t_max); false if none.
+  bool intersect(const Ray& ray, RayHit* hit) const;
+  // Any hit with t in [0, t_max).
+  bool occluded(const Vec3& origin, const Vec3& direction, float t_max) const;
+
+  const EmbreeStats& stats() const { return stats_; }
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  EmbreeStats stats_;
+};
+
+}  // namespace sylva

@@ -1,0 +1,154 @@
+#include "render/integrator.h"
+
+#include "render/materials.h"
+
+#include <bit>
+
+namespace sylva {
+
+namespace {
+
+float power_heuristic(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0 ? a2 / (a2 + b2) : 0.0f;
+}
+
+}  // namespace
+
+Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
+  constexpr float kOrigin = 1.0f / 32.0f;
+  constexpr float kFloatScale = 1.0f / 65536.0f;
+  constexpr float kIntScale = 256.0f;
+  Vec3 out;
+  for (int i = 0; i < 3; ++i) {
+    const int of = static_cast<int>(kIntScale * n[i]);
+    const float moved = std::bit_cast<float>(std::bit_cast<int32_t>(p[i]) + (p[i] < 0 ? -of : of));
+    out[i] = std::abs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : moved;
+  }
+  return out;
+}
+
+Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
+                       IntegratorSettings settings)
+    : scene_(scene), embree_(embree), environment_(environment), settings_(settings) {
+  normal_from_object_.reserve(scene.instances.size());
+  for (const Instance& inst : scene.instances)
+    normal_from_object_.push_back(glm::transpose(glm::inverse(Mat3(inst.world_from_object))));
+}
+
+SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) const {
+  const Instance& inst = scene_.instances[hit.instance];
+  const Prototype& proto = scene_.prototypes[inst.prototype];
+  const Mat3& nfo = normal_from_object_[hit.instance];
+  SurfaceInteraction si;
+  si.instance = hit.instance;
+  si.leaf = hit.leaf;
+  Vec3 p_obj, ng_obj, ns_obj;
+  if (hit.leaf) {
+    const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
+    // Embree's quad parametrisation: triangle (c0,c1,c3) for u+v <= 1, (c2,c3,c1) beyond.
+    if (hit.u + hit.v <= 1.0f) {
+      p_obj = (1.0f - hit.u - hit.v) * c[0] + hit.u * c[1] + hit.v * c[3];
+      ng_obj = glm::cross(c[1] - c[0], c[3] - c[0]);
+    } else {
+      p_obj = (hit.u + hit.v - 1.0f) * c[2] + (1.0f - hit.u) * c[3] + (1.0f - hit.v) * c[1];
+      ng_obj = glm::cross(c[3] - c[2], c[1] - c[2]);
+    }
+    ns_obj = ng_obj;
+    si.material = proto.leaf_material;
+  } else {
+    const TriangleMesh& m = proto.triangles;
+    const glm::uvec3 t = m.triangles[hit.primitive];
+    const float b0 = 1.0f - hit.u - hit.v;
+    p_obj = b0 * m.positions[t.x] + hit.u * m.positions[t.y] + hit.v * m.positions[t.z];
+    ng_obj = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
+    ns_obj = m.normals.empty() ? ng_obj : b0 * m.normals[t.x] + hit.u * m.normals[t.y] + hit.v * m.normals[t.z];
+    si.material = proto.triangle_material;
+  }
+  si.p = Vec3(inst.world_from_object * Vec4(p_obj, 1.0f));
+  si.ng = nfo * ng_obj;
+  const float lg = glm::length(si.ng);
+  si.ng = lg > 0 ? si.ng / lg : -ray.direction;
+  si.ns = nfo * ns_obj;
+  const float ls = glm::length(si.ns);
+  si.ns = ls > 0 ? si.ns / ls : si.ng;
+  if (glm::dot(si.ns, si.ng) < 0) si.ns = -si.ns;
+  return si;
+}
+
+SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first) const {
+  SampledSpectrum L(0.0f), beta(1.0f);
+  float prev_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that produced `ray`; 0 = camera ray
+  for (int depth = 0;; ++depth) {
+    RayHit hit;
+    if (!embree_.intersect(ray, &hit)) {
+      const SampledSpectrum le = environment_.eval(ray.direction, wl);
+      if (depth == 0 || settings_.debug_no_mis) {
+        L += beta * le;
+      } else {
+        L += beta * le * power_heuristic(prev_pdf, environment_.pdf(ray.direction));
+      }
+      break;
+    }
+    const SurfaceInteraction si = interaction(ray, hit);
+    const Vec3 wo = -ray.direction;
+    const bool front = glm::dot(wo, si.ng) > 0;
+    const Vec3 ng = front ? si.ng : -si.ng;  // geometric normal on the viewer's side
+    const Vec3 ns = front ? si.ns : -si.ns;
+    const Frame frame = Frame::from_z(ns);
+    const Bsdf bsdf(scene_.materials[si.material], wl, front);
+    if (first && depth == 0) {
+      first->hit = true;
+      first->t = hit.t;
+      first->normal = si.ng;
+      first->instance = si.instance + 1;
+      first->object_id = scene_.instances[si.instance].object_id;
+      first->albedo = bsdf.albedo();
+    }
+    if (depth + 1 > settings_.max_depth) break;
+    const Vec3 wo_local = frame.to_local(wo);
+
+    // Next-event estimation towards the sun + sky mixture.
+    const Vec2 u_light(rng.uniform(), rng.uniform());
+    const float u_select = rng.uniform();
+    if (!environment_.empty()) {
+      const LightSample ls = environment_.sample(u_light, u_select, wl);
+      if (ls.pdf > 0 && !is_black(ls.radiance)) {
+        const Vec3 wi_local = frame.to_local(ls.wi);
+        const float cos_g = glm::dot(ls.wi, ng);
+        const bool transmits = cos_g < 0;
+        // The geometric and shading sides must agree, or light would leak through the surface.
+        if ((wi_local.z > 0) == !transmits && cos_g != 0) {
+          const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
+          if (!is_black(f) && !embree_.occluded(offset_ray_origin(si.p, transmits ? -ng : ng), ls.wi,
+                                               std::numeric_limits<float>::infinity())) {
+            const float w = settings_.debug_no_mis ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
+            L += beta * f * std::abs(wi_local.z) * ls.radiance * (w / ls.pdf);
+          }
+        }
+      }
+    }
+
+    // Continue the path by sampling the BSDF.
+    const Vec2 u_bsdf(rng.uniform(), rng.uniform());
+    const float u_lobe = rng.uniform();
+    BsdfSample bs;
+    if (!bsdf.sample(wo_local, u_bsdf, u_lobe, &bs)) break;
+    const Vec3 wi = frame.to_world(bs.wi);
+    const float cos_g = glm::dot(wi, ng);
+    if (cos_g == 0 || (cos_g < 0) != bs.transmitted) break;  // shading/geometry disagreement
+    beta *= bs.value;
+    prev_pdf = bs.pdf;
+    ray = Ray{offset_ray_origin(si.p, bs.transmitted ? -ng : ng), wi};
+
+    if (depth + 1 >= settings_.rr_start_depth) {
+      const float q = std::max(0.05f, 1.0f - max_component(beta));
+      if (rng.uniform() < q) break;
+      beta /= 1.0f - q;
+    }
+    if (is_black(beta)) break;
+  }
+  return L;
+}
+
+}  // namespace sylva

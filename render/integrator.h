@@ -1,0 +1,66 @@
+#pragma once
+// Spectral unidirectional path tracer: hero-wavelength sampling (kLambdaCount wavelengths per
+// path), next-event estimation of the sun+sky mixture with multiple importance sampling (power
+// heuristic, Veach 1997 §9.2), Russian roulette after three bounces, a maximum depth.
+
+#include "core/band.h"
+#include "core/rng.h"
+#include "render/embree_scene.h"
+#include "render/scene.h"
+
+#include <vector>
+
+namespace sylva {
+
+struct IntegratorSettings {
+  int max_depth = 16;        // scattering events per path
+  int rr_start_depth = 3;    // Russian roulette from this bounce on
+  // Test hooks for the golden suite's power tests: each breaks the renderer on purpose.
+  bool debug_no_mis = false;            // NEE and BSDF sampling both weighted 1 (double counts)
+};
+
+// A surface point as the integrator sees it (world space).
+struct SurfaceInteraction {
+  Vec3 p;
+  Vec3 ng;          // geometric normal, unit; for leaves the upper (adaxial) side
+  Vec3 ns;          // shading normal, unit, on the same side as ng
+  uint32_t material = 0;
+  uint32_t instance = 0;
+  bool leaf = false;
+};
+
+// First-hit data for the AOVs.
+struct FirstHit {
+  bool hit = false;
+  float t = 0;
+  Vec3 normal{0.0f};
+  uint32_t instance = 0;  // 0 = background, else instance index + 1
+  uint32_t object_id = 0;
+  SampledSpectrum albedo{0.0f};
+};
+
+class Integrator {
+ public:
+  Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
+             IntegratorSettings settings);
+
+  // Radiance along `ray` for the carried wavelengths. `first` (optional) receives first-hit data.
+  SampledSpectrum radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first) const;
+
+  // The surface at a hit (world space), from the prototype's mesh data.
+  SurfaceInteraction interaction(const Ray& ray, const RayHit& hit) const;
+
+ private:
+  const Scene& scene_;
+  const EmbreeScene& embree_;
+  const Environment& environment_;
+  IntegratorSettings settings_;
+  std::vector<Mat3> normal_from_object_;  // per instance: inverse transpose of the linear part
+};
+
+// Moves `p` off the surface along `n` (the side the new ray leaves to) by a few ulps scaled with
+// |p|: Wächter & Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing
+// Gems ch. 6.
+Vec3 offset_ray_origin(const Vec3& p, const Vec3& n);
+
+}  // namespace sylva

@@ -1,0 +1,85 @@
+#pragma once
+// Sun and sky: the scene's distant light, sampled as one mixture so next-event estimation and BSDF
+// sampling combine with multiple importance sampling.
+//
+// Directions: world Z up, +Y north, +X east. Sun azimuth is the compass bearing (degrees clockwise
+// from north), elevation the angle above the horizon.
+
+#include "core/math.h"
+#include "core/sampling.h"
+#include "core/spectrum.h"
+
+namespace sylva {
+
+Vec3 sun_direction(float azimuth_deg, float elevation_deg);
+
+// The default diffuse-sky spectrum: ASTM G173 global (37° tilt) minus the direct beam projected on
+// that tilt (incidence 11.2° at the standard's solar zenith 48.2°), clamped at 0.
+DenseSpectrum astm_g173_diffuse();
+
+struct SunDesc {
+  bool enabled = true;
+  float azimuth_deg = 135.0f;
+  float elevation_deg = 45.0f;
+  float angular_radius_deg = 0.2665f;  // the solar disc seen from Earth
+  // Spectral irradiance on a surface facing the sun, W·m⁻²·nm⁻¹ (default ASTM G173 direct+circumsolar).
+  DenseSpectrum irradiance = astm_g173_direct();
+};
+
+enum class SkyModel { CieStandard, Uniform };
+
+struct SkyDesc {
+  bool enabled = true;
+  SkyModel model = SkyModel::CieStandard;
+  int cie_type = 12;  // CIE standard general sky type 1–15 (12: clear, low turbidity)
+  // CieStandard: the diffuse irradiance on a horizontal surface, W·m⁻²·nm⁻¹; the sky's radiance
+  // is this spectrum times the CIE relative luminance distribution, normalised to match it.
+  // Uniform: the radiance itself (W·m⁻²·sr⁻¹·nm⁻¹) in every direction of the sphere.
+  DenseSpectrum spectrum = astm_g173_diffuse();
+  Vec3 sun_direction{0, 0, 1};  // for the CIE indicatrix
+};
+
+// CIE relative sky luminance L(ω)/L(zenith) (ISO 15469 / CIE S 011), 0 below the horizon.
+float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir);
+
+struct LightSample {
+  Vec3 wi;                  // world direction towards the light
+  SampledSpectrum radiance;
+  float pdf = 0;            // solid angle, of the whole mixture
+};
+
+class Environment {
+ public:
+  Environment() = default;
+  Environment(const SunDesc& sun, const SkyDesc& sky);
+
+  // Radiance arriving from world direction `dir` (sun disc + sky).
+  SampledSpectrum eval(const Vec3& dir, const SampledWavelengths& wl) const;
+  SampledSpectrum eval_sky(const Vec3& dir, const SampledWavelengths& wl) const;
+  LightSample sample(Vec2 u, float u_select, const SampledWavelengths& wl) const;
+  // Solid-angle density with which sample() produces `dir`.
+  float pdf(const Vec3& dir) const;
+  bool empty() const { return p_sun_ == 0 && p_sky_ == 0; }
+
+  const SunDesc& sun() const { return sun_; }
+  const SkyDesc& sky() const { return sky_; }
+  float sun_cos_max() const { return sun_cos_max_; }
+  // Sky radiance spectrum for relative luminance 1.
+  const DenseSpectrum& sky_radiance_scale() const { return sky_radiance_; }
+
+ private:
+  float sky_shape(const Vec3& dir) const;
+  float sky_pdf(const Vec3& dir) const;
+
+  SunDesc sun_;
+  SkyDesc sky_;
+  Frame sun_frame_;
+  float sun_cos_max_ = 1.0f;
+  DenseSpectrum sun_radiance_;
+  DenseSpectrum sky_radiance_;
+  Distribution2D sky_distribution_;  // u = φ/2π, v = θ/θ_max
+  float sky_theta_max_ = kPi;
+  float p_sun_ = 0, p_sky_ = 0;
+};
+
+}  // namespace sylva
