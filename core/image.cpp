@@ -1,0 +1,252 @@
+#include "core/image.h"
+
+#include "core/color.h"
+#include "core/error.h"
+
+#include <Imath/half.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <system_error>
+#include <unistd.h>
+
+namespace sylva {
+namespace {
+
+OIIO::TypeDesc storage_type(PixelType type) {
+  switch (type) {
+    case PixelType::Float: return OIIO::TypeDesc::FLOAT;
+    case PixelType::Half: return OIIO::TypeDesc::HALF;
+    case PixelType::UInt: return OIIO::TypeDesc::UINT32;
+  }
+  return OIIO::TypeDesc::FLOAT;
+}
+
+// Runs `write(temporary)` and renames the temporary over `path`; on any failure the temporary is
+// removed and a sylva::Error("path: why") is thrown.
+void write_atomically(const std::filesystem::path& path, const std::function<void(const std::string&)>& write) {
+  const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
+  auto discard = [&] {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+  };
+  try {
+    write(tmp.string());
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) throw Error(path.string() + ": cannot rename temporary file: " + ec.message());
+  } catch (const Error&) {
+    discard();
+    throw;
+  } catch (const std::exception& e) {
+    discard();
+    throw Error(path.string() + ": " + e.what());
+  }
+}
+
+std::string oiio_error(const std::string& what) {
+  const std::string detail = OIIO::geterror();
+  return detail.empty() ? what : what + ": " + detail;
+}
+
+}  // namespace
+
+int Image::find_channel(std::string_view name) const {
+  for (size_t c = 0; c < channels.size(); ++c)
+    if (channels[c] == name) return static_cast<int>(c);
+  return -1;
+}
+
+void Image::add_channel(std::string name, PixelType type) {
+  const size_t old_count = channels.size();
+  const size_t pixel_count = static_cast<size_t>(width) * static_cast<size_t>(height);
+  std::vector<float> grown(pixel_count * (old_count + 1), 0.0f);
+  for (size_t p = 0; p < pixel_count && old_count > 0; ++p)
+    std::copy_n(pixels.begin() + static_cast<std::ptrdiff_t>(p * old_count), old_count,
+                grown.begin() + static_cast<std::ptrdiff_t>(p * (old_count + 1)));
+  pixels = std::move(grown);
+  channels.push_back(std::move(name));
+  types.push_back(type);
+}
+
+std::string Image::attribute(std::string_view key) const {
+  for (const auto& [k, v] : attributes)
+    if (k == key) return v;
+  return "";
+}
+
+void Image::set_attribute(std::string key, std::string value) {
+  for (auto& [k, v] : attributes)
+    if (k == key) {
+      v = std::move(value);
+      return;
+    }
+  attributes.emplace_back(std::move(key), std::move(value));
+}
+
+Image make_image(int width, int height, std::vector<std::string> channels, PixelType type) {
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.types.assign(channels.size(), type);
+  image.channels = std::move(channels);
+  image.pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * image.channels.size(), 0.0f);
+  return image;
+}
+
+void write_exr(const std::filesystem::path& path, const Image& image) {
+  const int nc = image.channel_count();
+  if (image.width <= 0 || image.height <= 0 || nc == 0)
+    throw Error(path.string() + ": cannot write an empty image");
+  if (image.types.size() != image.channels.size() ||
+      image.pixels.size() != static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * image.channels.size())
+    throw Error(path.string() + ": inconsistent image (channels, types and pixels disagree)");
+
+  OIIO::ImageSpec spec(image.width, image.height, nc, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = image.channels;
+  spec.channelformats.clear();
+  for (PixelType t : image.types) spec.channelformats.push_back(storage_type(t));
+  spec.alpha_channel = image.find_channel("A");
+  spec.z_channel = image.find_channel("Z");
+  spec.attribute("compression", "zip");
+  for (const auto& [key, value] : image.attributes) spec.attribute(key, value);
+  if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0)
+    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709_chromaticities.data());
+
+  // Native per-channel layout: OIIO would treat integer formats as normalised if asked to convert
+  // floats, so the pixels are packed here in each channel's own type.
+  std::vector<size_t> offsets(static_cast<size_t>(nc));
+  size_t pixel_bytes = 0;
+  for (int c = 0; c < nc; ++c) {
+    offsets[static_cast<size_t>(c)] = pixel_bytes;
+    pixel_bytes += spec.channelformats[static_cast<size_t>(c)].size();
+  }
+  const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  std::vector<unsigned char> packed(pixel_count * pixel_bytes);
+  for (size_t p = 0; p < pixel_count; ++p)
+    for (int c = 0; c < nc; ++c) {
+      const float v = image.pixels[p * static_cast<size_t>(nc) + static_cast<size_t>(c)];
+      unsigned char* dst = packed.data() + p * pixel_bytes + offsets[static_cast<size_t>(c)];
+      switch (image.types[static_cast<size_t>(c)]) {
+        case PixelType::Float: std::memcpy(dst, &v, sizeof v); break;
+        case PixelType::Half: {
+          const Imath::half h(v);
+          std::memcpy(dst, &h, sizeof h);
+          break;
+        }
+        case PixelType::UInt: {
+          const uint32_t u = std::isfinite(v) && v > 0.0f ? static_cast<uint32_t>(std::lround(v)) : 0u;
+          std::memcpy(dst, &u, sizeof u);
+          break;
+        }
+      }
+    }
+
+  write_atomically(path, [&](const std::string& tmp) {
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("openexr");
+    if (!out) throw Error(path.string() + ": " + oiio_error("OpenImageIO has no OpenEXR writer"));
+    if (!out->open(tmp, spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
+    const bool ok = out->write_image(OIIO::TypeDesc::UNKNOWN, packed.data());
+    const std::string write_error = ok ? "" : out->geterror();
+    if (!out->close() || !ok)
+      throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
+  });
+}
+
+Image read_exr(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
+  if (!in) throw Error(path.string() + ": " + oiio_error("cannot read image"));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
+    throw Error(path.string() + ": not a 2D image with channels");
+
+  Image image;
+  image.width = spec.width;
+  image.height = spec.height;
+  image.channels = spec.channelnames;
+  for (int c = 0; c < spec.nchannels; ++c) {
+    const OIIO::TypeDesc f = spec.channelformat(c);
+    image.types.push_back(f.basetype == OIIO::TypeDesc::UINT32 || f.basetype == OIIO::TypeDesc::UINT16 ||
+                                  f.basetype == OIIO::TypeDesc::UINT8
+                              ? PixelType::UInt
+                          : f.basetype == OIIO::TypeDesc::HALF ? PixelType::Half
+                                                               : PixelType::Float);
+  }
+  for (const OIIO::ParamValue& p : spec.extra_attribs) {
+    const std::string name = p.name().string();
+    if (p.type() != OIIO::TypeString || name == "compression" || name.rfind("oiio:", 0) == 0) continue;
+    image.attributes.emplace_back(name, p.get_string());
+  }
+
+  // Read each channel in its native type (integer channels must not be normalised).
+  const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  const size_t nc = image.channels.size();
+  image.pixels.assign(pixel_count * nc, 0.0f);
+  for (size_t c = 0; c < nc; ++c) {
+    const int ci = static_cast<int>(c);
+    bool ok = false;
+    if (image.types[c] == PixelType::UInt) {
+      std::vector<uint32_t> plane(pixel_count);
+      ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::UINT32, plane.data());
+      const OIIO::TypeDesc f = spec.channelformat(ci);
+      // Narrow unsigned channels come back scaled to the 32-bit range; undo that exactly.
+      const uint32_t scale = f.basetype == OIIO::TypeDesc::UINT8 ? 0x01010101u
+                             : f.basetype == OIIO::TypeDesc::UINT16 ? 0x00010001u
+                                                                   : 1u;
+      for (size_t p = 0; p < pixel_count; ++p) image.pixels[p * nc + c] = static_cast<float>(plane[p] / scale);
+    } else {
+      std::vector<float> plane(pixel_count);
+      ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::FLOAT, plane.data());
+      for (size_t p = 0; p < pixel_count; ++p) image.pixels[p * nc + c] = plane[p];
+    }
+    if (!ok) throw Error(path.string() + ": cannot read channel " + image.channels[c] + ": " + in->geterror());
+  }
+  return image;
+}
+
+void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
+    throw Error(path.string() + ": inconsistent PNG pixels");
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("oiio:ColorSpace", "sRGB");
+  write_atomically(path, [&](const std::string& tmp) {
+    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
+    if (!out) throw Error(path.string() + ": " + oiio_error("OpenImageIO has no PNG writer"));
+    if (!out->open(tmp, spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
+    const bool ok = out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
+    const std::string write_error = ok ? "" : out->geterror();
+    if (!out->close() || !ok)
+      throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
+  });
+}
+
+void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options) {
+  int src[3];
+  for (int i = 0; i < 3; ++i) {
+    src[i] = image.find_channel(options.channels[static_cast<size_t>(i)]);
+    if (src[i] < 0)
+      throw Error(path.string() + ": no channel \"" + options.channels[static_cast<size_t>(i)] + "\" to preview");
+  }
+  const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  const size_t nc = image.channels.size();
+  const float scale = std::exp2(options.exposure_ev);
+  std::vector<float> rgb(pixel_count * 3);
+  for (size_t p = 0; p < pixel_count; ++p)
+    for (size_t i = 0; i < 3; ++i) {
+      const float v = image.pixels[p * nc + static_cast<size_t>(src[i])] * scale;
+      rgb[p * 3 + i] = std::isfinite(v) ? v : 0.0f;
+    }
+  apply_display_transform(rgb.data(), pixel_count, options.view);
+  std::vector<uint8_t> bytes(rgb.size());
+  for (size_t i = 0; i < rgb.size(); ++i) {
+    const float v = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.0f, 1.0f) : 0.0f;
+    bytes[i] = static_cast<uint8_t>(std::lround(v * 255.0f));
+  }
+  write_png_rgb8(path, image.width, image.height, bytes);
+}
+
+}  // namespace sylva

@@ -1,0 +1,199 @@
+// EXR round trip, atomic writes, read errors and PNG previews (core/image.h).
+
+#include "core/error.h"
+#include "core/image.h"
+
+#include <gtest/gtest.h>
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh directory per test, removed afterwards.
+class ImageFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("sylva_test_image_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add);
+    fs::remove_all(dir_);
+  }
+  fs::path dir_;
+};
+
+Image sample_image() {
+  Image image = make_image(5, 3, {"R", "G", "B", "nir.Y", "Z"});
+  image.add_channel("id.instance", PixelType::UInt);
+  image.add_channel("N.X", PixelType::Half);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      image.at(x, y, 0) = 0.1f * static_cast<float>(x) + 1e-7f;
+      image.at(x, y, 1) = 1000.0f + 0.001f * static_cast<float>(y);
+      image.at(x, y, 2) = -0.25f;
+      image.at(x, y, 3) = static_cast<float>(x * y) / 7.0f;
+      image.at(x, y, 4) = 3.0e4f;
+      image.at(x, y, 5) = static_cast<float>((1 << 24) - 1 - x - 10 * y);  // large ids stay exact
+      image.at(x, y, 6) = 0.5f + 0.25f * static_cast<float>(x);             // exact in half
+    }
+  image.attributes = {{"sylva:spp", "256"}, {"sylva:scene", "default, seed=7"}};
+  return image;
+}
+
+TEST(Image, ChannelsAndAttributes) {
+  Image image = make_image(2, 2, {"R", "G"});
+  image.at(1, 1, 0) = 3.0f;
+  image.at(1, 0, 1) = 4.0f;
+  image.add_channel("Z", PixelType::Float);
+  ASSERT_EQ(image.channel_count(), 3);
+  EXPECT_EQ(image.find_channel("Z"), 2);
+  EXPECT_EQ(image.find_channel("B"), -1);
+  EXPECT_EQ(image.at(1, 1, 0), 3.0f);
+  EXPECT_EQ(image.at(1, 0, 1), 4.0f);
+  EXPECT_EQ(image.at(1, 1, 2), 0.0f);
+  EXPECT_EQ(image.pixels.size(), 12u);
+  EXPECT_EQ(image.attribute("sylva:spp"), "");
+  image.set_attribute("sylva:spp", "16");
+  image.set_attribute("sylva:spp", "32");
+  EXPECT_EQ(image.attribute("sylva:spp"), "32");
+  EXPECT_EQ(image.attributes.size(), 1u);
+}
+
+TEST_F(ImageFiles, ExrRoundTripKeepsNamesTypesValuesAndHeader) {
+  const Image image = sample_image();
+  const fs::path path = dir_ / "round.exr";
+  write_exr(path, image);
+  const Image back = read_exr(path);
+  ASSERT_EQ(back.width, image.width);
+  ASSERT_EQ(back.height, image.height);
+  ASSERT_EQ(back.channel_count(), image.channel_count());
+  for (int c = 0; c < image.channel_count(); ++c) {
+    const int bc = back.find_channel(image.channels[static_cast<size_t>(c)]);
+    ASSERT_GE(bc, 0) << image.channels[static_cast<size_t>(c)];
+    EXPECT_EQ(back.types[static_cast<size_t>(bc)], image.types[static_cast<size_t>(c)]) << image.channels[static_cast<size_t>(c)];
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        EXPECT_EQ(back.at(x, y, bc), image.at(x, y, c)) << image.channels[static_cast<size_t>(c)] << " " << x << "," << y;
+  }
+  EXPECT_EQ(back.attribute("sylva:spp"), "256");
+  EXPECT_EQ(back.attribute("sylva:scene"), "default, seed=7");
+  EXPECT_EQ(back.attribute("compression"), "");  // OIIO's own attributes are not passed through
+
+  // The file itself: ZIP, UINT ids, Rec.709 chromaticities.
+  auto in = OIIO::ImageInput::open(path.string());
+  ASSERT_TRUE(in);
+  const OIIO::ImageSpec& spec = in->spec();
+  EXPECT_EQ(spec.get_string_attribute("compression"), "zip");
+  EXPECT_EQ(spec.channelformat(spec.channelindex("id.instance")), OIIO::TypeDesc::UINT32);
+  EXPECT_EQ(spec.channelformat(spec.channelindex("N.X")), OIIO::TypeDesc::HALF);
+  EXPECT_EQ(spec.channelformat(spec.channelindex("R")), OIIO::TypeDesc::FLOAT);
+  const OIIO::ParamValue* chroma = spec.find_attribute("chromaticities");
+  ASSERT_NE(chroma, nullptr);
+  ASSERT_EQ(chroma->type(), OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8));
+  const float* xy = static_cast<const float*>(chroma->data());
+  for (size_t i = 0; i < 8; ++i) EXPECT_FLOAT_EQ(xy[i], rec709_chromaticities[i]) << i;
+}
+
+TEST_F(ImageFiles, NoChromaticitiesWithoutRgb) {
+  Image image = make_image(2, 2, {"nir.Y"});
+  write_exr(dir_ / "nir.exr", image);
+  auto in = OIIO::ImageInput::open((dir_ / "nir.exr").string());
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().find_attribute("chromaticities"), nullptr);
+}
+
+TEST_F(ImageFiles, OverwriteReplacesAndLeavesNoTemporary) {
+  Image image = make_image(3, 2, {"Y"});
+  const fs::path path = dir_ / "a.exr";
+  write_exr(path, image);
+  image.at(2, 1, 0) = 9.0f;
+  write_exr(path, image);
+  EXPECT_EQ(read_exr(path).at(2, 1, 0), 9.0f);
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(dir_)) {
+    ++entries;
+    EXPECT_EQ(e.path().filename(), "a.exr");
+  }
+  EXPECT_EQ(entries, 1);
+}
+
+TEST_F(ImageFiles, FailedWriteThrowsAndLeavesNoPartialFile) {
+  const Image image = sample_image();
+  // A directory that cannot be written (skip the check when running as root, who bypasses modes).
+  const fs::path locked = dir_ / "locked";
+  fs::create_directories(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  if (::geteuid() != 0) {
+    EXPECT_THROW(write_exr(locked / "out.exr", image), Error);
+    EXPECT_TRUE(fs::is_empty(locked));
+  }
+  fs::permissions(locked, fs::perms::owner_all);
+
+  // A missing directory fails for everyone, root included; the message names the path.
+  const fs::path missing = dir_ / "no" / "such" / "dir" / "out.exr";
+  try {
+    write_exr(missing, image);
+    FAIL() << "expected sylva::Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(missing.string()), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(missing));
+
+  // The target is a directory: the temporary is written, the rename fails, the temporary goes away.
+  const fs::path target = dir_ / "is_a_dir.exr";
+  fs::create_directories(target / "child");
+  EXPECT_THROW(write_exr(target, image), Error);
+  EXPECT_TRUE(fs::is_directory(target));
+  for (const auto& e : fs::directory_iterator(dir_))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+
+  // An inconsistent image is refused before anything is written.
+  Image broken = make_image(2, 2, {"R"});
+  broken.pixels.pop_back();
+  EXPECT_THROW(write_exr(dir_ / "broken.exr", broken), Error);
+  EXPECT_FALSE(fs::exists(dir_ / "broken.exr"));
+}
+
+TEST_F(ImageFiles, ReadErrorsAreClear) {
+  auto message = [](const fs::path& p) {
+    try {
+      read_exr(p);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const fs::path missing = dir_ / "missing.exr";
+  const std::string m1 = message(missing);
+  EXPECT_EQ(m1.rfind(missing.string() + ": ", 0), 0u) << m1;
+  EXPECT_NE(m1.find("no such file"), std::string::npos) << m1;
+
+  const fs::path garbage = dir_ / "garbage.exr";
+  std::ofstream(garbage) << "this is not an image";
+  const std::string m2 = message(garbage);
+  EXPECT_EQ(m2.rfind(garbage.string() + ": ", 0), 0u) << m2;
+
+  // A truncated EXR: valid header, missing pixel data.
+  Image image = make_image(64, 64, {"R", "G", "B"});
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<float>(i % 97) * 0.37f;
+  const fs::path full = dir_ / "full.exr";
+  write_exr(full, image);
+  const fs::path cut = dir_ / "cut.exr";
+  fs::copy_file(full, cut);
+  fs::resize_file(cut, fs::file_size(full) / 2);
+  const std::string m3 = message(cut);
+  EXPECT_EQ(m3.rfind(cut.string() + ": ", 0), 0u) << m3;
+}
+
+}  // namespace
+}  // namespace sylva
