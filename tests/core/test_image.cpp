@@ -138,6 +138,9 @@ TEST_F(ImageFiles, FailedWriteThrowsAndLeavesNoPartialFile) {
     EXPECT_TRUE(fs::is_empty(locked));
   }
   fs::permissions(locked, fs::perms::owner_all);
+  // procfs refuses new files even to root.
+  EXPECT_THROW(write_exr("/proc/sylva_test_unwritable.exr", image), Error);
+  EXPECT_FALSE(fs::exists("/proc/sylva_test_unwritable.exr"));
 
   // A missing directory fails for everyone, root included; the message names the path.
   const fs::path missing = dir_ / "no" / "such" / "dir" / "out.exr";
