@@ -7,7 +7,9 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <system_error>
@@ -224,12 +226,11 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height, co
   });
 }
 
-void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options) {
+std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions& options) {
   int src[3];
   for (int i = 0; i < 3; ++i) {
     src[i] = image.find_channel(options.channels[static_cast<size_t>(i)]);
-    if (src[i] < 0)
-      throw Error(path.string() + ": no channel \"" + options.channels[static_cast<size_t>(i)] + "\" to preview");
+    if (src[i] < 0) throw Error("no channel \"" + options.channels[static_cast<size_t>(i)] + "\" to preview");
   }
   const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
   const size_t nc = image.channels.size();
@@ -246,7 +247,26 @@ void write_png_preview(const std::filesystem::path& path, const Image& image, co
     const float v = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.0f, 1.0f) : 0.0f;
     bytes[i] = static_cast<uint8_t>(std::lround(v * 255.0f));
   }
+  return bytes;
+}
+
+void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options) {
+  std::vector<uint8_t> bytes;
+  try {
+    bytes = make_preview_rgb8(image, options);
+  } catch (const Error& e) {
+    throw Error(path.string() + ": " + e.what());
+  }
   write_png_rgb8(path, image.width, image.height, bytes);
+}
+
+void write_text_file(const std::filesystem::path& path, std::string_view text) {
+  write_atomically(path, [&](const std::string& tmp) {
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (f == nullptr) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !ok) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
+  });
 }
 
 }  // namespace sylva

@@ -72,8 +72,15 @@ struct PreviewOptions {
   std::array<std::string, 3> channels{"R", "G", "B"};
 };
 
+// The preview's pixels: 8-bit display code values, width*height*3, top row first. Non-finite
+// values show as black. Throws sylva::Error naming a missing channel or an unknown view.
+std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions& options);
+
 // 8-bit sRGB PNG through an OCIO display transform of data/ocio/config.ocio. Atomic like write_exr.
 void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options);
+
+// Writes a text file (e.g. an HTML report) atomically like write_exr.
+void write_text_file(const std::filesystem::path& path, std::string_view text);
 
 // Writes 8-bit RGB pixels (width*height*3, top row first) as a PNG. Atomic like write_exr.
 void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb);

@@ -48,7 +48,7 @@ struct CompareOptions {
   double variance_rel_floor = 1e-5;     // σ ≥ this · max(|test|, |ref|)
   double bias_alpha = 1e-3;             // mean-bias test level (Šidák over channels); 0 disables it
   std::optional<double> fail_threshold; // Cycles-style fallback: |d| > T fails a pixel ...
-  double fail_percent = 1.0;            // ... and > P% failing pixels fail the image
+  double fail_percent = 0.0;            // ... and > P% failing pixels fail the image (idiff's default 0)
 };
 
 struct ChannelReport {
