@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <algorithm>
 #include <sstream>
 
 namespace sylva {
@@ -50,7 +51,7 @@ size_t Table::column(const std::string& name) const {
   throw ParseError(file, 0, "no column '" + name + "' (columns: " + have + ")");
 }
 
-Table read_table(const std::filesystem::path& file, bool has_header) {
+Table read_table(const std::filesystem::path& file, bool has_header, const std::vector<std::string>& text_columns) {
   std::ifstream in(file);
   if (!in) throw Error(file.string() + ": cannot open table");
   Table t;
@@ -58,6 +59,7 @@ Table read_table(const std::filesystem::path& file, bool has_header) {
   std::string line;
   int line_no = 0;
   bool header_done = !has_header;
+  std::vector<bool> is_text;
   while (std::getline(in, line)) {
     ++line_no;
     std::string_view sv(line);
@@ -67,6 +69,7 @@ Table read_table(const std::filesystem::path& file, bool has_header) {
     if (!header_done) {
       t.header.assign(fields.begin(), fields.end());
       t.columns.resize(fields.size());
+      for (const auto& name : t.header) is_text.push_back(std::find(text_columns.begin(), text_columns.end(), name) != text_columns.end());
       header_done = true;
       continue;
     }
@@ -77,7 +80,8 @@ Table read_table(const std::filesystem::path& file, bool has_header) {
                            std::to_string(fields.size()));
     for (size_t c = 0; c < fields.size(); ++c) {
       double v = 0;
-      if (!parse_number(fields[c], v))
+      if (c < is_text.size() && is_text[c]) v = std::numeric_limits<double>::quiet_NaN();
+      else if (!parse_number(fields[c], v))
         throw ParseError(file, line_no, "expected a number, found '" + std::string(fields[c]) + "'");
       t.columns[c].push_back(v);
     }

@@ -19,7 +19,9 @@ struct Table {
 };
 
 // Throws ParseError(file:line: ...) for a malformed row, sylva::Error for an unreadable file.
-// `has_header` false for files that are all numbers (e.g. PROSPECT tables).
-Table read_table(const std::filesystem::path& file, bool has_header = true);
+// `has_header` false for files that are all numbers (e.g. PROSPECT tables). Columns named in
+// `text_columns` may hold text; they are read as NaN.
+Table read_table(const std::filesystem::path& file, bool has_header = true,
+                 const std::vector<std::string>& text_columns = {});
 
 }  // namespace sylva

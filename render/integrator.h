@@ -44,8 +44,9 @@ class Integrator {
   Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
              IntegratorSettings settings);
 
-  // Radiance along `ray` for the carried wavelengths. `first` (optional) receives first-hit data.
-  SampledSpectrum radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first) const;
+  // Radiance along `ray` for the carried wavelengths. `first` (optional) receives first-hit data;
+  // `rays` is incremented by the number of rays traced (closest-hit and shadow).
+  SampledSpectrum radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first, uint64_t& rays) const;
 
   // The surface at a hit (world space), from the prototype's mesh data.
   SurfaceInteraction interaction(const Ray& ray, const RayHit& hit) const;

@@ -19,7 +19,7 @@ struct CieSkyCoefficients {
 
 const std::array<CieSkyCoefficients, 15>& cie_sky_table() {
   static const auto table = [] {
-    const Table t = read_table(data_file("cie_standard_general_sky_15_types.csv"));
+    const Table t = read_table(data_file("cie_standard_general_sky_15_types.csv"), true, {"description"});
     std::array<CieSkyCoefficients, 15> out{};
     if (t.rows() != 15) throw Error("CIE sky table: expected 15 rows");
     for (size_t r = 0; r < 15; ++r)

@@ -12,5 +12,6 @@ namespace sylva {
 using CommandRun = std::function<int()>;
 
 CommandRun add_render_command(CLI::App& parent);
+CommandRun add_compare_command(CLI::App& parent);
 
 }  // namespace sylva

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   std::vector<std::pair<CLI::App*, sylva::CommandRun>> commands;
   auto add = [&](sylva::CommandRun run) { commands.emplace_back(app.get_subcommands({}).back(), std::move(run)); };
   add(sylva::add_render_command(app));
+  add(sylva::add_compare_command(app));
 
   try {
     app.parse(argc, argv);

@@ -1,0 +1,180 @@
+#include "render/renderer.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+
+namespace sylva {
+
+Renderer::Renderer(const Scene& scene, RenderSettings settings) : scene_(scene), settings_(std::move(settings)) {
+  if (settings_.width <= 0 || settings_.height <= 0) throw Error("resolution must be positive");
+  if (settings_.spp <= 0) throw Error("samples per pixel must be positive");
+  if (settings_.bands.empty()) throw Error("no bands to render");
+  if (settings_.integrator.max_depth < 1) throw Error("maximum depth must be at least 1");
+  for (const Band& b : settings_.bands)
+    for (size_t c = 0; c < b.channels.size(); ++c) {
+      channels_.push_back(b.channels[c]);
+      weights_.push_back(&b.weights[c]);
+      weight_integrals_.push_back(static_cast<float>(b.weights[c].integral()));
+    }
+  embree_ = std::make_unique<EmbreeScene>(scene_);
+  environment_ = Environment(scene_.sun, scene_.sky);
+  integrator_ = std::make_unique<Integrator>(scene_, *embree_, environment_, settings_.integrator);
+  camera_ = Camera(scene_.camera, settings_.width, settings_.height);
+  wavelengths_ = WavelengthSampler(settings_.bands);
+}
+
+Renderer::~Renderer() = default;
+
+const EmbreeStats& Renderer::embree_stats() const { return embree_->stats(); }
+
+Film Renderer::make_film() const {
+  return Film(settings_.width, settings_.height, static_cast<int>(2 * channels_.size()));
+}
+
+void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample,
+                            uint64_t& rays) const {
+  const size_t nc = channels_.size();
+  float values[2 * 64];
+  const uint64_t pixel_id = static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
+  for (uint32_t s = first_sample; s < end_sample; ++s) {
+    Pcg32 rng(hash_ids(settings_.seed, pixel_id, s));
+    const Vec2 film_pos(static_cast<float>(x) + rng.uniform(), static_cast<float>(y) + rng.uniform());
+    const Vec2 lens(rng.uniform(), rng.uniform());
+    const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
+    FirstHit first;
+    SampledSpectrum L = integrator_->radiance(camera_.generate_ray(film_pos, lens), wl, rng, &first, rays);
+    // A non-finite radiance never reaches the film; such a sample counts as black.
+    for (int i = 0; i < kLambdaCount; ++i)
+      if (!std::isfinite(L[i])) L = SampledSpectrum(0.0f);
+    for (size_t c = 0; c < nc; ++c) {
+      float v = 0, a = 0;
+      for (int i = 0; i < kLambdaCount; ++i) {
+        const float w = weights_[c]->eval(wl.lambda_nm[i]) / wl.pdf[i];
+        v += L[i] * w;
+        a += first.albedo[i] * w;
+      }
+      values[c] = v / kLambdaCount;
+      values[nc + c] = weight_integrals_[c] != 0 ? a / (kLambdaCount * weight_integrals_[c]) : 0.0f;
+    }
+    film.add_sample(x, y, values);
+  }
+}
+
+RenderStats Renderer::render(Film& film) {
+  if (film.width() != settings_.width || film.height() != settings_.height ||
+      film.channels() != static_cast<int>(2 * channels_.size()))
+    throw Error("film does not match the render settings");
+  if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
+  RenderStats stats;
+  stats.embree = embree_->stats();
+  const auto start = std::chrono::steady_clock::now();
+  const uint32_t target = static_cast<uint32_t>(settings_.spp);
+  uint64_t remaining = 0;
+  for (int y = 0; y < settings_.height; ++y)
+    for (int x = 0; x < settings_.width; ++x) remaining += target - std::min(target, film.count(x, y));
+
+  Progress progress("render", remaining, settings_.progress);
+  tbb::enumerable_thread_specific<uint64_t> rays(0), samples(0);
+  std::atomic<bool> stopped{false};
+  const int ts = settings_.tile_size;
+  const int tiles_x = (settings_.width + ts - 1) / ts, tiles_y = (settings_.height + ts - 1) / ts;
+  tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, tiles_x * tiles_y, 1),
+        [&](const tbb::blocked_range<int>& range) {
+          for (int tile = range.begin(); tile != range.end(); ++tile) {
+            const int x0 = (tile % tiles_x) * ts, y0 = (tile / tiles_x) * ts;
+            const int x1 = std::min(x0 + ts, settings_.width), y1 = std::min(y0 + ts, settings_.height);
+            uint64_t& tile_rays = rays.local();
+            uint64_t added = 0;
+            for (int y = y0; y < y1; ++y)
+              for (int x = x0; x < x1; ++x) {
+                // Stop between pixels; each pixel keeps whole samples, in order.
+                if (settings_.cancel && settings_.cancel->load(std::memory_order_relaxed)) {
+                  stopped = true;
+                  samples.local() += added;
+                  progress.add(added);
+                  return;
+                }
+                const uint32_t have = film.count(x, y);
+                if (have >= target) continue;
+                render_pixel(film, x, y, have, target, tile_rays);
+                added += target - have;
+              }
+            samples.local() += added;
+            progress.add(added);
+          }
+        },
+        tbb::simple_partitioner());
+  });
+  progress.finish();
+  stats.interrupted = stopped.load();
+  stats.rays = rays.combine(std::plus<>());
+  stats.samples = samples.combine(std::plus<>());
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+Image Renderer::make_image(const Film& film) const {
+  const size_t nc = channels_.size();
+  std::vector<std::string> names;
+  std::vector<PixelType> types;
+  auto add = [&](std::string n, PixelType t) {
+    names.push_back(std::move(n));
+    types.push_back(t);
+  };
+  for (const auto& c : channels_) add(c, PixelType::Float);
+  for (const auto& c : channels_) add("var." + c, PixelType::Float);
+  for (const auto& c : channels_) add("albedo." + c, PixelType::Half);
+  add("Z", PixelType::Float);
+  add("N.X", PixelType::Half);
+  add("N.Y", PixelType::Half);
+  add("N.Z", PixelType::Half);
+  add("id.instance", PixelType::UInt);
+  add("id.object", PixelType::UInt);
+  Image image = sylva::make_image(film.width(), film.height(), names);
+  image.types = types;
+  const int z = static_cast<int>(3 * nc);
+  const Vec3 forward = glm::normalize(scene_.camera.target - scene_.camera.position);
+
+  tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(0, film.height(), [&](int y) {
+      uint64_t rays = 0;
+      for (int x = 0; x < film.width(); ++x) {
+        for (size_t c = 0; c < nc; ++c) {
+          image.at(x, y, static_cast<int>(c)) = static_cast<float>(film.mean(x, y, static_cast<int>(c)));
+          image.at(x, y, static_cast<int>(nc + c)) = static_cast<float>(film.variance_of_mean(x, y, static_cast<int>(c)));
+          image.at(x, y, static_cast<int>(2 * nc + c)) = static_cast<float>(film.mean(x, y, static_cast<int>(nc + c)));
+        }
+        // First-hit AOVs through the pixel centre (pinhole ray: labels are not blurred).
+        const Ray ray = camera_.generate_ray(Vec2(x + 0.5f, y + 0.5f), Vec2(0.5f));
+        RayHit hit;
+        ++rays;
+        if (embree_->intersect(ray, &hit)) {
+          const SurfaceInteraction si = integrator_->interaction(ray, hit);
+          const Vec3 n = glm::dot(si.ng, ray.direction) > 0 ? -si.ng : si.ng;
+          image.at(x, y, z) = hit.t * glm::dot(ray.direction, forward);
+          image.at(x, y, z + 1) = n.x;
+          image.at(x, y, z + 2) = n.y;
+          image.at(x, y, z + 3) = n.z;
+          image.at(x, y, z + 4) = static_cast<float>(hit.instance + 1);
+          image.at(x, y, z + 5) = static_cast<float>(scene_.instances[hit.instance].object_id);
+        } else {
+          image.at(x, y, z) = 1e10f;
+        }
+      }
+    });
+  });
+  return image;
+}
+
+}  // namespace sylva

@@ -1,0 +1,54 @@
+#pragma once
+// Scene files (TOML): camera, sun, sky, materials, meshes (primitives or OBJ/PLY) with instances,
+// trees from species files, render settings, bands and outputs. The schema is documented in
+// docs/scene_format.md. Every mistake is reported as `file:line: what was expected`.
+
+#include "core/band.h"
+#include "render/scene.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sylva {
+
+struct RenderSection {
+  int width = 640;
+  int height = 360;
+  int spp = 64;
+  uint64_t seed = 1;
+  int max_depth = 16;
+  std::vector<std::string> bands{"rgb", "nir"};
+};
+
+struct OutputSection {
+  std::filesystem::path exr;  // empty: chosen on the command line
+  std::filesystem::path png;
+  float exposure_ev = 0.0f;   // added to the automatic exposure of the preview
+  bool auto_exposure = true;  // meter the preview on the image (median luminance → mid grey)
+  std::string view = "Standard";
+};
+
+struct SceneFile {
+  std::filesystem::path path;       // empty for the built-in default scene
+  Scene scene;
+  RenderSection render;
+  OutputSection output;
+  std::vector<Band> custom_bands;   // [[bands]] tables: user SRFs, resolved by name before built-ins
+  std::string content_hash;         // of the file text (and the species files it uses), hex
+};
+
+// Throws ParseError (file:line: ...) for any mistake in the file or in files it references.
+SceneFile load_scene_file(const std::filesystem::path& file);
+// Parses scene text; `name` is used in messages and relative paths resolve against `base_dir`
+// (then against Sylva's data directory).
+SceneFile parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base_dir);
+// The built-in default scene: ground, a few objects and a canopy of leaves under sun and sky.
+SceneFile default_scene();
+
+// Resolves band names against the file's custom bands, then the built-in ones.
+std::vector<Band> resolve_bands(const SceneFile& file, const std::vector<std::string>& names);
+
+}  // namespace sylva

@@ -1,0 +1,52 @@
+#pragma once
+// Typed access to a parsed TOML document with `file:line: what was expected` errors, shared by the
+// scene and species parsers. Every accessor checks type and range and names the key it read.
+
+#include "core/error.h"
+#include "core/math.h"
+
+#include <toml++/toml.h>
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sylva {
+
+class TomlReader {
+ public:
+  explicit TomlReader(std::string file) : file_(std::move(file)) {}
+
+  // Parses `text`; syntax errors become ParseError with the line toml++ reports.
+  toml::table parse(std::string_view text) const;
+
+  [[noreturn]] void fail(const toml::node& at, const std::string& what) const;
+  [[noreturn]] void fail_line(int line, const std::string& what) const;
+  const std::string& file() const { return file_; }
+
+  // Rejects keys not in `allowed` (catches typos): "unknown key 'x' in <where> (expected one of ...)".
+  void check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed, std::string_view where) const;
+
+  const toml::table* table(const toml::table& t, std::string_view key) const;  // nullptr if absent
+  const toml::array* array(const toml::table& t, std::string_view key) const;  // nullptr if absent
+
+  std::string string(const toml::table& t, std::string_view key) const;  // required
+  std::string string(const toml::table& t, std::string_view key, const std::string& fallback) const;
+  bool boolean(const toml::table& t, std::string_view key, bool fallback) const;
+  double number(const toml::table& t, std::string_view key) const;  // required
+  double number(const toml::table& t, std::string_view key, double fallback) const;
+  float number_in(const toml::table& t, std::string_view key, double fallback, double lo, double hi) const;
+  int64_t integer(const toml::table& t, std::string_view key, int64_t fallback, int64_t lo, int64_t hi) const;
+  std::vector<double> numbers(const toml::table& t, std::string_view key) const;  // required array
+  std::vector<std::string> strings(const toml::table& t, std::string_view key) const;  // required array
+  Vec2 vec2(const toml::table& t, std::string_view key, Vec2 fallback) const;
+  Vec3 vec3(const toml::table& t, std::string_view key, Vec3 fallback) const;
+
+ private:
+  const toml::node& require(const toml::table& t, std::string_view key) const;
+  std::string file_;
+};
+
+}  // namespace sylva
