@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <limits>
 #include <cmath>
 #include <map>
 
@@ -21,7 +22,7 @@ struct PreviewItem {
   std::vector<size_t> result_channels;  // indices into CompareResult::channels / error planes
   int64_t tested = 0, rejected = 0;
   bool bias_failed = false;
-  bool radiometric = true;  // z-test/threshold channels: shown at exposure 0; others normalised
+  bool radiometric = true;  // z-test/threshold channels shown as is; others mapped from the reference range
   double share() const { return tested > 0 ? static_cast<double>(rejected) / static_cast<double>(tested) : 0.0; }
   bool failing() const { return rejected > 0 || bias_failed; }
 };
@@ -111,18 +112,6 @@ std::vector<PreviewItem> make_items(const CompareResult& result) {
   return items;
 }
 
-// Exposure that maps the largest finite |value| of the item's reference channels to 1.
-float normalising_exposure(const Image& ref, const PreviewItem& item) {
-  float peak = 0.0f;
-  for (const std::string& name : item.channels) {
-    const int c = ref.find_channel(name);
-    for (int y = 0; y < ref.height; ++y)
-      for (int x = 0; x < ref.width; ++x)
-        if (const float v = std::abs(ref.at(x, y, c)); std::isfinite(v)) peak = std::max(peak, v);
-  }
-  return peak > 0.0f ? -std::log2(peak) : 0.0f;
-}
-
 std::string format_share(double share) { return fmt::format("{:.4g}%", 100.0 * share); }
 
 }  // namespace
@@ -141,25 +130,48 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
 
   const std::vector<PreviewItem> items = make_items(result);
   for (const PreviewItem& item : items) {
-    PreviewOptions preview;
-    preview.view = options.view;
-    preview.channels = item.channels;
-    preview.exposure_ev = item.radiometric ? 0.0f : normalising_exposure(ref, item);
-    write_png_preview(dir / (item.slug + "_test.png"), test, preview);
-    const std::vector<uint8_t> ref_rgb = make_preview_rgb8(ref, preview);
-    write_png_rgb8(dir / (item.slug + "_ref.png"), ref.width, ref.height, ref_rgb);
-
-    Image diff = make_image(ref.width, ref.height, {item.channels[0], item.channels[1], item.channels[2]});
+    // The item's three channels of test, reference and |diff|·k as R,G,B images. Radiometric
+    // channels keep their values (linear Rec.709 for the view); data channels (depth, normals,
+    // ids) are mapped from the reference's [min, max] to [0, 1].
+    float lo = 0.0f, span = 1.0f;
+    if (!item.radiometric) {
+      float hi = -std::numeric_limits<float>::infinity();
+      lo = std::numeric_limits<float>::infinity();
+      for (const std::string& name : item.channels) {
+        const int c = ref.find_channel(name);
+        for (int y = 0; y < ref.height; ++y)
+          for (int x = 0; x < ref.width; ++x)
+            if (const float v = ref.at(x, y, c); std::isfinite(v)) {
+              lo = std::min(lo, v);
+              hi = std::max(hi, v);
+            }
+      }
+      if (!(hi > lo)) {
+        span = std::isfinite(lo) && lo != 0.0f ? std::abs(lo) : 1.0f;
+        lo = std::isfinite(lo) ? lo - span : 0.0f;
+      } else {
+        span = hi - lo;
+      }
+    }
+    Image t3 = make_image(ref.width, ref.height, {"R", "G", "B"});
+    Image r3 = t3, d3 = t3;
     for (int c = 0; c < 3; ++c) {
       const int tc = test.find_channel(item.channels[static_cast<size_t>(c)]);
       const int rc = ref.find_channel(item.channels[static_cast<size_t>(c)]);
       for (int y = 0; y < ref.height; ++y)
-        for (int x = 0; x < ref.width; ++x)
-          diff.at(x, y, c) = std::abs(test.at(x, y, tc) - ref.at(x, y, rc)) * options.diff_scale;
+        for (int x = 0; x < ref.width; ++x) {
+          const float t = test.at(x, y, tc), r = ref.at(x, y, rc);
+          t3.at(x, y, c) = (t - lo) / span;
+          r3.at(x, y, c) = (r - lo) / span;
+          d3.at(x, y, c) = std::abs(t - r) / span * options.diff_scale;
+        }
     }
-    PreviewOptions diff_preview = preview;
-    diff_preview.channels = {item.channels[0], item.channels[1], item.channels[2]};
-    write_png_preview(dir / (item.slug + "_diff.png"), diff, diff_preview);
+    PreviewOptions preview;
+    preview.view = options.view;
+    write_png_preview(dir / (item.slug + "_test.png"), t3, preview);
+    const std::vector<uint8_t> ref_rgb = make_preview_rgb8(r3, preview);
+    write_png_rgb8(dir / (item.slug + "_ref.png"), ref.width, ref.height, ref_rgb);
+    write_png_preview(dir / (item.slug + "_diff.png"), d3, preview);
 
     // Rejecting pixels of this item in red over the dimmed reference.
     std::vector<uint8_t> reject_rgb(ref_rgb.size());
@@ -251,8 +263,8 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
 
   // Images, failing groups first.
   h += fmt::format("<h2>Images</h2>\n<p>|diff| is scaled by k = {:g}; rejecting pixels are red over the dimmed "
-                   "reference. Previews use the OCIO view &ldquo;{}&rdquo;; non-radiometric channels are "
-                   "normalised to the reference's maximum.</p>\n",
+                   "reference. Previews use the OCIO view &ldquo;{}&rdquo;; data channels (depth, normals, ids) are "
+                   "mapped from the reference's range to black&ndash;white.</p>\n",
                    options.diff_scale, html_escape(options.view));
   for (const PreviewItem& item : items) {
     h += fmt::format("<section class=\"item\" id=\"item-{}\">\n<h3>{} <span class=\"{}\">{}</span> &mdash; {} "

@@ -343,10 +343,10 @@ std::string format_compare_summary(const CompareResult& r) {
     s += fmt::format("  worst: pixel ({}, {}) channel {}: test {:.6g}, ref {:.6g}, {} {:.4g}, p {:.3g}\n", r.worst.x,
                      r.worst.y, r.worst.channel, r.worst.test, r.worst.ref, r.threshold_mode ? "d/T" : "z", r.worst.z,
                      r.worst.p);
-  s += fmt::format("  {:<14} {:<9} {:>17} {:>9} {:>13} {:>14} {:>10}\n", "channel", "test", "rejected", "share",
-                   "mean rel diff", "mean |rel| diff", "bias z");
+  s += fmt::format("  {:<14} {:<9} {:>17} {:>9} {:>14} {:>16} {:>10}\n", "channel", "test", "rejected", "share",
+                   "mean rel diff", "mean |rel diff|", "bias z");
   for (const ChannelReport& c : r.channels)
-    s += fmt::format("  {:<14} {:<9} {:>17} {:>8.4g}% {:>+12.4g}% {:>13.4g}% {:>10}\n", c.name, test_name(c.test),
+    s += fmt::format("  {:<14} {:<9} {:>17} {:>8.4g}% {:>+13.4g}% {:>15.4g}% {:>10}\n", c.name, test_name(c.test),
                      fmt::format("{}/{}", c.rejected, c.tested), 100.0 * c.reject_fraction(), 100.0 * c.mean_rel_diff,
                      100.0 * c.mean_abs_rel_diff,
                      c.test == ChannelTest::ZTest && std::isfinite(r.bias_z_critical)
