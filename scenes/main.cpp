@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   auto add = [&](sylva::CommandRun run) { commands.emplace_back(app.get_subcommands({}).back(), std::move(run)); };
   add(sylva::add_render_command(app));
   add(sylva::add_compare_command(app));
+  add(sylva::add_tree_command(app));
 
   try {
     app.parse(argc, argv);
