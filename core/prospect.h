@@ -12,13 +12,13 @@ namespace sylva {
 
 // Leaf biochemistry, in PROSPECT's units.
 struct ProspectParams {
-  float N = 1.5f;       // leaf structure parameter (number of plates), ≥ 1
-  float Cab = 40;       // chlorophyll a+b, µg/cm²
-  float Car = 8;        // carotenoids, µg/cm²
-  float Ant = 0;        // anthocyanins, µg/cm²
-  float Cbrown = 0;     // brown pigments, arbitrary units
-  float Cw = 0.01f;     // equivalent water thickness, cm (= g/cm²)
-  float Cm = 0.009f;    // dry matter per area, g/cm²
+  float N = 1.5f;     // leaf structure parameter (number of plates), ≥ 1
+  float Cab = 40;     // chlorophyll a+b, µg/cm²
+  float Car = 8;      // carotenoids, µg/cm²
+  float Ant = 0;      // anthocyanins, µg/cm²
+  float Cbrown = 0;   // brown pigments, arbitrary units
+  float Cw = 0.01f;   // equivalent water thickness, cm (= g/cm²)
+  float Cm = 0.009f;  // dry matter per area, g/cm²
 };
 
 // Spectral leaf optics on a common wavelength grid; reflectance + transmittance ≤ 1.

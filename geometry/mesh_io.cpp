@@ -8,6 +8,7 @@
 #include <bit>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -116,7 +117,8 @@ class AtomicWriter {
     buf_.append(tmp, static_cast<size_t>(r.ptr - tmp));
   }
   // Little-endian binary value.
-  template <typename T> void put_le(T v) {
+  template <typename T>
+  void put_le(T v) {
     std::array<char, sizeof(T)> raw;
     std::memcpy(raw.data(), &v, sizeof(T));
     if constexpr (std::endian::native == std::endian::big) std::reverse(raw.begin(), raw.end());
@@ -165,12 +167,19 @@ void validate(const TriangleMesh& m, const fs::path& file) {
   for (const glm::uvec3& t : m.triangles)
     if (t.x >= n || t.y >= n || t.z >= n)
       throw Error("cannot write " + file.string() + ": triangle index out of range");
+  const auto finite2 = [](const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); };
+  if (!std::all_of(m.positions.begin(), m.positions.end(), is_finite) ||
+      !std::all_of(m.normals.begin(), m.normals.end(), is_finite) ||
+      !std::all_of(m.uvs.begin(), m.uvs.end(), finite2))
+    throw Error("cannot write " + file.string() + ": non-finite vertex data");
 }
 
 void validate(const TreeMesh& m, const fs::path& file) {
   validate(m.stems, file);
   if (m.leaves.corners.size() != 4 * m.leaves.shapes.size())
     throw Error("cannot write " + file.string() + ": leaf corners are not 4 per leaf");
+  if (!std::all_of(m.leaves.corners.begin(), m.leaves.corners.end(), is_finite))
+    throw Error("cannot write " + file.string() + ": non-finite leaf corner");
   for (const LeafShape s : m.leaves.shapes)
     if (static_cast<size_t>(s) >= static_cast<size_t>(LeafShape::Count))
       throw Error("cannot write " + file.string() + ": invalid leaf shape");
@@ -189,7 +198,8 @@ std::vector<Vec3> stem_normals(const TriangleMesh& m) {
   if (!m.normals.empty()) return m.normals;
   std::vector<Vec3> n(m.positions.size(), Vec3(0));
   for (const glm::uvec3& t : m.triangles) {
-    const Vec3 face = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
+    const Vec3 face =
+        glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
     n[t.x] += face;
     n[t.y] += face;
     n[t.z] += face;
@@ -201,7 +211,8 @@ std::vector<Vec3> stem_normals(const TriangleMesh& m) {
 // The normal of leaf quad i, on its upper (adaxial) side.
 Vec3 leaf_normal(const LeafQuads& leaves, size_t i) {
   const Vec3* c = &leaves.corners[4 * i];
-  return safe_normalize(glm::cross(c[1] - c[0], c[2] - c[0]) + glm::cross(c[2] - c[0], c[3] - c[0]));
+  return safe_normalize(glm::cross(c[1] - c[0], c[2] - c[0]) +
+                        glm::cross(c[2] - c[0], c[3] - c[0]));
 }
 
 constexpr std::array<Vec2, 4> kLeafUvs{Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
@@ -311,7 +322,8 @@ void write_obj(const std::filesystem::path& file, const TreeMesh& mesh) {
   }
   for (size_t s = 0; s < static_cast<size_t>(LeafShape::Count); ++s) {
     const auto shape = static_cast<LeafShape>(s);
-    if (std::find(leaves.shapes.begin(), leaves.shapes.end(), shape) == leaves.shapes.end()) continue;
+    if (std::find(leaves.shapes.begin(), leaves.shapes.end(), shape) == leaves.shapes.end())
+      continue;
     const std::string name = "leaves_" + std::string(leaf_shape_name(shape));
     w.put("g " + name + "\nusemtl " + name + "\n");
     for (size_t i = 0; i < leaves.size(); ++i) {
@@ -341,9 +353,10 @@ void write_ply(const std::filesystem::path& file, const TreeMesh& mesh) {
   }
   w.put("\nelement vertex ");
   w.put(uint64_t{stems.positions.size() + leaves.corners.size()});
-  w.put("\nproperty float x\nproperty float y\nproperty float z\n"
-        "property float nx\nproperty float ny\nproperty float nz\n"
-        "property float u\nproperty float v\nelement face ");
+  w.put(
+      "\nproperty float x\nproperty float y\nproperty float z\n"
+      "property float nx\nproperty float ny\nproperty float nz\n"
+      "property float u\nproperty float v\nelement face ");
   w.put(uint64_t{stems.triangles.size() + leaves.size()});
   w.put("\nproperty list uchar int vertex_indices\nproperty uchar leaf_shape\nend_header\n");
   auto vertex = [&](const Vec3& p, const Vec3& n, const Vec2& uv) {
@@ -365,7 +378,8 @@ void write_ply(const std::filesystem::path& file, const TreeMesh& mesh) {
   const auto ns = static_cast<int32_t>(stems.positions.size());
   for (size_t i = 0; i < leaves.size(); ++i) {
     w.put_le(uint8_t{4});
-    for (int32_t k = 0; k < 4; ++k) w.put_le(static_cast<int32_t>(ns + 4 * static_cast<int32_t>(i) + k));
+    for (int32_t k = 0; k < 4; ++k)
+      w.put_le(static_cast<int32_t>(ns + 4 * static_cast<int32_t>(i) + k));
     w.put_le(static_cast<uint8_t>(leaves.shapes[i]));
     w.maybe_flush();
   }

@@ -1,7 +1,7 @@
 #pragma once
 // Mesh import and export: Wavefront OBJ and PLY. Used for targets placed in scenes (import) and for
-// exporting trees and whole scenes (export). Units are whatever the file holds (Sylva writes metres,
-// Z up); no axis conversion is applied.
+// exporting trees and whole scenes (export). Units are whatever the file holds (Sylva writes
+// metres, Z up); no axis conversion is applied.
 
 #include "geometry/mesh.h"
 
@@ -30,14 +30,14 @@ namespace sylva {
 // unknown extension). Indices are validated; truncated or garbage input never crashes or hangs.
 TriangleMesh read_mesh(const std::filesystem::path& file);
 
-// Writes a tree: stem triangles with per-vertex normals and uvs (normals are computed, area-weighted,
-// and uvs set to 0 when the stems lack them), then leaves as quads with uv (0,0),(1,0),(1,1),(0,1)
-// and the quad's normal, grouped by leaf shape. OBJ: `g stems`, then per shape `g leaves_<name>`
-// and `usemtl leaves_<name>` (names from leaf_shape_name). PLY: binary_little_endian with vertex
-// x y z nx ny nz u v (float) and face `list uchar int vertex_indices` plus `uchar leaf_shape`
-// (the LeafShape value, 255 for stem faces).
-// Atomic: writes `<file>.tmp` and renames it over `file`; on failure the temporary is removed and
-// sylva::Error is thrown (also for an inconsistent mesh: bad indices or attribute sizes).
+// Writes a tree: stem triangles with per-vertex normals and uvs (normals are computed,
+// area-weighted, and uvs set to 0 when the stems lack them), then leaves as quads with uv
+// (0,0),(1,0),(1,1),(0,1) and the quad's normal, grouped by leaf shape. OBJ: `g stems`, then per
+// shape `g leaves_<name>` and `usemtl leaves_<name>` (names from leaf_shape_name). PLY:
+// binary_little_endian with vertex x y z nx ny nz u v (float) and face `list uchar int
+// vertex_indices` plus `uchar leaf_shape` (the LeafShape value, 255 for stem faces). Atomic: writes
+// `<file>.tmp` and renames it over `file`; on failure the temporary is removed and sylva::Error is
+// thrown (also for an inconsistent mesh: bad indices or attribute sizes).
 void write_obj(const std::filesystem::path& file, const TreeMesh& mesh);
 void write_ply(const std::filesystem::path& file, const TreeMesh& mesh);
 

@@ -78,9 +78,12 @@ class ObjParser {
       while (q < end_ && is_blank(*q)) ++q;
       if (end_ - q >= 2) {
         if (q[0] == 'v') {
-          if (is_blank(q[1])) ++v;
-          else if (q[1] == 't') ++vt;
-          else if (q[1] == 'n') ++vn;
+          if (is_blank(q[1]))
+            ++v;
+          else if (q[1] == 't')
+            ++vt;
+          else if (q[1] == 'n')
+            ++vn;
         } else if (q[0] == 'f' && is_blank(q[1])) {
           ++f;
         }
@@ -151,7 +154,8 @@ class ObjParser {
     v.y = number("a vertex y after 'v'");
     v.z = number("a vertex z after 'v'");
     // Optional w, or r g b vertex colours: read and ignored.
-    for (int extra = 0; extra < 3 && has_more_on_line(); ++extra) number("a number after 'v x y z'");
+    for (int extra = 0; extra < 3 && has_more_on_line(); ++extra)
+      number("a number after 'v x y z'");
     end_of_statement("v");
     v_.push_back(v);
   }
@@ -173,9 +177,11 @@ class ObjParser {
     const char* q = p_ + (negative ? 1 : 0);
     const char* digits = q;
     int64_t i = 0;
-    while (q < end_ && static_cast<unsigned>(*q - '0') < 10u && q - digits < 18) i = 10 * i + (*q++ - '0');
+    while (q < end_ && static_cast<unsigned>(*q - '0') < 10u && q - digits < 18)
+      i = 10 * i + (*q++ - '0');
     if (q == digits || (q < end_ && static_cast<unsigned>(*q - '0') < 10u))
-      fail(std::string("expected a ") + what + " index in the face, found " + printable(token_here()));
+      fail(std::string("expected a ") + what + " index in the face, found " +
+           printable(token_here()));
     if (negative) i = -i;
     p_ = q;
     const int64_t n = static_cast<int64_t>(count);
@@ -275,8 +281,8 @@ class ObjParser {
     mesh.triangles.resize(tri_v_.size());
     for (size_t t = 0; t < tri_v_.size(); ++t)
       for (int k = 0; k < 3; ++k)
-        mesh.triangles[t][k] = vertex_of({tri_v_[t][k], use_vt ? tri_vt_[t][k] : kNone,
-                                          use_vn ? tri_vn_[t][k] : kNone});
+        mesh.triangles[t][k] = vertex_of(
+            {tri_v_[t][k], use_vt ? tri_vt_[t][k] : kNone, use_vn ? tri_vn_[t][k] : kNone});
     return mesh;
   }
 

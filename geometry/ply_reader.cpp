@@ -37,13 +37,17 @@ std::optional<PlyType> ply_type_from_name(std::string_view s) {
 size_t ply_type_size(PlyType t) {
   switch (t) {
     case PlyType::Int8:
-    case PlyType::UInt8: return 1;
+    case PlyType::UInt8:
+      return 1;
     case PlyType::Int16:
-    case PlyType::UInt16: return 2;
+    case PlyType::UInt16:
+      return 2;
     case PlyType::Int32:
     case PlyType::UInt32:
-    case PlyType::Float32: return 4;
-    case PlyType::Float64: return 8;
+    case PlyType::Float32:
+      return 4;
+    case PlyType::Float64:
+      return 8;
   }
   return 1;
 }
@@ -109,12 +113,17 @@ PlyHeader parse_header(const std::filesystem::path& file, std::string_view bytes
     if (w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
       if (w.size() != 3) throw ParseError(file, line, "expected 'format <type> 1.0'");
-      if (w[1] == "ascii") h.format = PlyFormat::Ascii;
-      else if (w[1] == "binary_little_endian") h.format = PlyFormat::BinaryLittle;
-      else if (w[1] == "binary_big_endian") h.format = PlyFormat::BinaryBig;
+      if (w[1] == "ascii")
+        h.format = PlyFormat::Ascii;
+      else if (w[1] == "binary_little_endian")
+        h.format = PlyFormat::BinaryLittle;
+      else if (w[1] == "binary_big_endian")
+        h.format = PlyFormat::BinaryBig;
       else
-        throw ParseError(file, line, "expected format ascii, binary_little_endian or "
-                                     "binary_big_endian, found " + printable(w[1]));
+        throw ParseError(file, line,
+                         "expected format ascii, binary_little_endian or "
+                         "binary_big_endian, found " +
+                             printable(w[1]));
       have_format = true;
     } else if (w[0] == "element") {
       PlyElement e;
@@ -122,7 +131,8 @@ PlyHeader parse_header(const std::filesystem::path& file, std::string_view bytes
       e.name = std::string(w[1]);
       const auto [p, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), e.count);
       if (ec != std::errc() || p != w[2].data() + w[2].size())
-        throw ParseError(file, line, "expected a non-negative element count, found " + printable(w[2]));
+        throw ParseError(file, line,
+                         "expected a non-negative element count, found " + printable(w[2]));
       e.line = line;
       h.elements.push_back(std::move(e));
     } else if (w[0] == "property") {
@@ -133,7 +143,8 @@ PlyHeader parse_header(const std::filesystem::path& file, std::string_view bytes
         const auto ct = ply_type_from_name(w[2]);
         const auto it = ply_type_from_name(w[3]);
         if (!ct || !ply_type_is_integer(*ct))
-          throw ParseError(file, line, "expected an integer list count type, found " + printable(w[2]));
+          throw ParseError(file, line,
+                           "expected an integer list count type, found " + printable(w[2]));
         if (!it) throw ParseError(file, line, "expected a PLY type, found " + printable(w[3]));
         prop.is_list = true;
         prop.count_type = *ct;
@@ -145,13 +156,15 @@ PlyHeader parse_header(const std::filesystem::path& file, std::string_view bytes
         prop.type = *t;
         prop.name = std::string(w[2]);
       } else {
-        throw ParseError(file, line, "expected 'property <type> <name>' or "
-                                     "'property list <count type> <type> <name>'");
+        throw ParseError(file, line,
+                         "expected 'property <type> <name>' or "
+                         "'property list <count type> <type> <name>'");
       }
       h.elements.back().properties.push_back(std::move(prop));
     } else {
-      throw ParseError(file, line, "unknown PLY header line " + printable(w[0]) +
-                                       " (expected format, element, property, comment or end_header)");
+      throw ParseError(file, line,
+                       "unknown PLY header line " + printable(w[0]) +
+                           " (expected format, element, property, comment or end_header)");
     }
   }
   if (!have_format) throw ParseError(file, line, "expected a 'format' line in the PLY header");
@@ -211,16 +224,18 @@ class PlyData {
 
  private:
   [[noreturn]] void truncated(const ValueName& what) const {
-    throw ParseError(file_, 0, "truncated binary PLY data at byte " + std::to_string(pos_) +
-                                   " of " + std::to_string(bytes_.size()) + ": expected " +
-                                   what.str());
+    throw ParseError(file_, 0,
+                     "truncated binary PLY data at byte " + std::to_string(pos_) + " of " +
+                         std::to_string(bytes_.size()) + ": expected " + what.str());
   }
 
   void skip_space() {
     while (pos_ < bytes_.size()) {
       const char c = bytes_[pos_];
-      if (c == '\n') ++line_;
-      else if (c != ' ' && c != '\t' && c != '\r') break;
+      if (c == '\n')
+        ++line_;
+      else if (c != ' ' && c != '\t' && c != '\r')
+        break;
       ++pos_;
     }
   }
@@ -259,17 +274,25 @@ class PlyData {
 
   static bool in_range(PlyType t, double v) {
     switch (t) {
-      case PlyType::Int8: return v >= -128 && v <= 127;
-      case PlyType::UInt8: return v >= 0 && v <= 255;
-      case PlyType::Int16: return v >= -32768 && v <= 32767;
-      case PlyType::UInt16: return v >= 0 && v <= 65535;
-      case PlyType::Int32: return v >= -2147483648.0 && v <= 2147483647.0;
-      case PlyType::UInt32: return v >= 0 && v <= 4294967295.0;
-      default: return true;
+      case PlyType::Int8:
+        return v >= -128 && v <= 127;
+      case PlyType::UInt8:
+        return v >= 0 && v <= 255;
+      case PlyType::Int16:
+        return v >= -32768 && v <= 32767;
+      case PlyType::UInt16:
+        return v >= 0 && v <= 65535;
+      case PlyType::Int32:
+        return v >= -2147483648.0 && v <= 2147483647.0;
+      case PlyType::UInt32:
+        return v >= 0 && v <= 4294967295.0;
+      default:
+        return true;
     }
   }
 
-  template <typename T> T load() {
+  template <typename T>
+  T load() {
     std::array<unsigned char, sizeof(T)> raw;
     std::memcpy(raw.data(), bytes_.data() + pos_, sizeof(T));
     const bool file_little = format_ == PlyFormat::BinaryLittle;
@@ -285,14 +308,30 @@ class PlyData {
     if (ply_type_size(t) > remaining()) truncated(what);
     double v = 0;
     switch (t) {
-      case PlyType::Int8: v = load<int8_t>(); break;
-      case PlyType::UInt8: v = load<uint8_t>(); break;
-      case PlyType::Int16: v = load<int16_t>(); break;
-      case PlyType::UInt16: v = load<uint16_t>(); break;
-      case PlyType::Int32: v = load<int32_t>(); break;
-      case PlyType::UInt32: v = load<uint32_t>(); break;
-      case PlyType::Float32: v = load<float>(); break;
-      case PlyType::Float64: v = load<double>(); break;
+      case PlyType::Int8:
+        v = load<int8_t>();
+        break;
+      case PlyType::UInt8:
+        v = load<uint8_t>();
+        break;
+      case PlyType::Int16:
+        v = load<int16_t>();
+        break;
+      case PlyType::UInt16:
+        v = load<uint16_t>();
+        break;
+      case PlyType::Int32:
+        v = load<int32_t>();
+        break;
+      case PlyType::UInt32:
+        v = load<uint32_t>();
+        break;
+      case PlyType::Float32:
+        v = load<float>();
+        break;
+      case PlyType::Float64:
+        v = load<double>();
+        break;
     }
     return v;
   }
@@ -318,7 +357,8 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
   const PlyElement* vertex = nullptr;
   for (const PlyElement& e : h.elements)
     if (e.name == "vertex") vertex = &e;
-  if (vertex == nullptr) throw ParseError(file, 0, "expected an 'element vertex' in the PLY header");
+  if (vertex == nullptr)
+    throw ParseError(file, 0, "expected an 'element vertex' in the PLY header");
 
   // Which vertex property feeds which attribute slot: x y z, nx ny nz, u v.
   std::array<int, 8> slot;
@@ -326,11 +366,13 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
   const std::array<const char*, 6> xyz_n{"x", "y", "z", "nx", "ny", "nz"};
   for (size_t s = 0; s < xyz_n.size(); ++s) slot[s] = find_property(*vertex, xyz_n[s]);
   if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0)
-    throw ParseError(file, vertex->line, "expected scalar properties x, y and z in 'element vertex'");
+    throw ParseError(file, vertex->line,
+                     "expected scalar properties x, y and z in 'element vertex'");
   const bool has_normals = slot[3] >= 0 && slot[4] >= 0 && slot[5] >= 0;
   bool has_uvs = false;
-  for (const auto& [u, v] : {std::pair{"u", "v"}, std::pair{"s", "t"},
-                             std::pair{"texture_u", "texture_v"}, std::pair{"texture_s", "texture_t"}}) {
+  for (const auto& [u, v] :
+       {std::pair{"u", "v"}, std::pair{"s", "t"}, std::pair{"texture_u", "texture_v"},
+        std::pair{"texture_s", "texture_t"}}) {
     if (has_uvs) break;
     slot[6] = find_property(*vertex, u);
     slot[7] = find_property(*vertex, v);
@@ -357,7 +399,8 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
             (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
           index_list = static_cast<int>(i);
       if (index_list < 0)
-        throw ParseError(file, e.line, "expected a list property 'vertex_indices' in 'element face'");
+        throw ParseError(file, e.line,
+                         "expected a list property 'vertex_indices' in 'element face'");
       if (!ply_type_is_integer(e.properties[index_list].type))
         throw ParseError(file, e.line, "expected an integer type for the face vertex indices");
     }

@@ -133,7 +133,7 @@ TEST(Prospect, MatchesReferenceProspectD) {
   }
   EXPECT_EQ(checked, 8 * 11);
   RecordProperty("max_abs_error", std::to_string(max_err));
-  std::printf("PROSPECT-D max |error| vs reference (4-decimal values): %.3g\n", max_err);
+  std::printf("PROSPECT-D max |error| vs reference (4-decimal values): %.6g\n", max_err);
 }
 
 TEST(Prospect, PlateModelMatchesProspect5Reference) {
