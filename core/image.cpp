@@ -114,6 +114,9 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   spec.alpha_channel = image.find_channel("A");
   spec.z_channel = image.find_channel("Z");
   spec.attribute("compression", "zip");
+  // OpenImageIO stamps the current time (EXR capDate) unless told otherwise; an empty DateTime keeps
+  // files byte-identical for identical images, so renders can be checked by file hash.
+  spec.attribute("DateTime", "");
   for (const auto& [key, value] : image.attributes) spec.attribute(key, value);
   if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0)
     spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709_chromaticities.data());
@@ -181,7 +184,9 @@ Image read_exr(const std::filesystem::path& path) {
   for (const OIIO::ParamValue& p : spec.extra_attribs) {
     const std::string name = p.name().string();
     if (p.type() != OIIO::TypeString || name == "compression" || name.rfind("oiio:", 0) == 0) continue;
-    image.attributes.emplace_back(name, p.get_string());
+    const std::string value = p.get_string();
+    if (name == "DateTime" && value.empty()) continue;  // written by write_exr for determinism
+    image.attributes.emplace_back(name, value);
   }
 
   // Read each channel in its native type (integer channels must not be normalised).

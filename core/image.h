@@ -55,7 +55,8 @@ inline constexpr std::array<float, 8> rec709_chromaticities{0.64f, 0.33f, 0.30f,
                                                             0.15f, 0.06f, 0.3127f, 0.3290f};
 
 // Writes OpenEXR (ZIP compression) with per-channel storage types, the string attributes, and the
-// Rec.709 chromaticities when R, G and B are present. Atomic; throws sylva::Error("path: why").
+// Rec.709 chromaticities when R, G and B are present. Deterministic: the same image gives the same
+// bytes (no timestamp unless a "DateTime" attribute is given). Atomic; throws sylva::Error("path: why").
 void write_exr(const std::filesystem::path& path, const Image& image);
 
 // Reads the first part of an EXR (any file OpenImageIO reads). UINT channels become PixelType::UInt,

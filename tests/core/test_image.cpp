@@ -104,6 +104,24 @@ TEST_F(ImageFiles, ExrRoundTripKeepsNamesTypesValuesAndHeader) {
   for (size_t i = 0; i < 8; ++i) EXPECT_FLOAT_EQ(xy[i], rec709_chromaticities[i]) << i;
 }
 
+TEST_F(ImageFiles, SameImageGivesIdenticalBytes) {
+  const Image image = sample_image();
+  write_exr(dir_ / "a.exr", image);
+  write_exr(dir_ / "b.exr", image);  // OIIO would otherwise stamp the time (to the second)
+  auto bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string a = bytes(dir_ / "a.exr");
+  EXPECT_FALSE(a.empty());
+  EXPECT_EQ(a, bytes(dir_ / "b.exr"));
+  EXPECT_EQ(read_exr(dir_ / "a.exr").attribute("DateTime"), "");
+  Image stamped = image;
+  stamped.set_attribute("DateTime", "2026:01:02 03:04:05");
+  write_exr(dir_ / "c.exr", stamped);
+  EXPECT_EQ(read_exr(dir_ / "c.exr").attribute("DateTime"), "2026:01:02 03:04:05");
+}
+
 TEST_F(ImageFiles, NoChromaticitiesWithoutRgb) {
   Image image = make_image(2, 2, {"nir.Y"});
   write_exr(dir_ / "nir.exr", image);
