@@ -150,12 +150,15 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
     plan.ref_c = ref.find_channel(name);
     const auto tol = std::find_if(options.abs_tolerances.begin(), options.abs_tolerances.end(),
                                   [&](const auto& t) { return t.first == name; });
-    if (contains(options.exact_channels, name) || test.types[static_cast<size_t>(plan.test_c)] == PixelType::UInt ||
-        ref.types[static_cast<size_t>(plan.ref_c)] == PixelType::UInt) {
+    const bool integer = test.types[static_cast<size_t>(plan.test_c)] == PixelType::UInt ||
+                         ref.types[static_cast<size_t>(plan.ref_c)] == PixelType::UInt;
+    if (contains(options.exact_channels, name)) {
       plan.test = ChannelTest::Exact;
     } else if (tol != options.abs_tolerances.end()) {
       plan.test = ChannelTest::AbsTolerance;
       plan.tolerance = tol->second;
+    } else if (integer) {
+      plan.test = ChannelTest::Exact;
     } else if (options.fail_threshold) {
       plan.test = ChannelTest::Threshold;
       plan.tolerance = *options.fail_threshold;
@@ -224,8 +227,9 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
     for (size_t p = 0; p < pixel_count; ++p) {
       const double t = test.pixels[p * tnc + static_cast<size_t>(plan.test_c)];
       const double r = ref.pixels[p * rnc + static_cast<size_t>(plan.ref_c)];
-      const double d = t - r;
+      const double d = t == r ? 0.0 : t - r;  // equal infinities (a miss's depth) match
       const bool finite = std::isfinite(t) && std::isfinite(r);
+      const bool identical = t == r;
       double z = 0.0, pval = 1.0, badness = 0.0, error_value = 0.0;
       bool reject = false;
       switch (plan.test) {
@@ -238,7 +242,9 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
           const double floor = options.variance_rel_floor * std::max(std::abs(t), std::abs(r));
           if (!std::isfinite(var)) var = kInf;
           var = std::max(var, floor * floor);
-          if (!finite) {
+          if (identical) {
+            z = 0.0;
+          } else if (!finite) {
             z = kInf;
           } else if (var > 0.0) {
             z = d / std::sqrt(var);
@@ -257,14 +263,14 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
         }
         case ChannelTest::Threshold:
         case ChannelTest::AbsTolerance:
-          reject = !finite || std::abs(d) > plan.tolerance;
-          z = !finite ? kInf : plan.tolerance > 0.0 ? d / plan.tolerance : (d == 0.0 ? 0.0 : kInf);
+          reject = !identical && (!finite || std::abs(d) > plan.tolerance);
+          z = identical ? 0.0 : !finite ? kInf : plan.tolerance > 0.0 ? d / plan.tolerance : (d == 0.0 ? 0.0 : kInf);
           badness = std::abs(z);
           error_value = std::abs(z);
           pval = reject ? 0.0 : 1.0;
           break;
         case ChannelTest::Exact:
-          reject = !(t == r);
+          reject = !identical;
           z = reject ? kInf : 0.0;
           badness = reject ? kInf : 0.0;
           error_value = reject ? 1.0 : 0.0;
@@ -281,7 +287,7 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
         sum_abs_d += std::abs(d);
         sum_abs_ref += std::abs(r);
         report.max_abs_diff = std::max(report.max_abs_diff, std::abs(d));
-      } else {
+      } else if (!identical) {
         report.max_abs_diff = kInf;
       }
       const int x = static_cast<int>(p % static_cast<size_t>(ref.width));

@@ -13,15 +13,16 @@
 // estimated as var_known · spp_known / spp_other (same per-sample variance); without spp it is taken
 // as 0 (an exact reference). Zero variance: σ is floored at variance_rel_floor · max(|test|, |ref|),
 // so a noiseless pixel must match to ~1e-5 relative (float rounding passes, anything else rejects);
-// two exact zeros pass. A non-finite test or reference value always rejects.
+// two exact zeros pass. Identical values always pass (also equal infinities); otherwise a non-finite
+// test or reference value rejects.
 //
 // Mean-bias test (on by default): per channel, D = Σ d over pixels, Var(D) = Σ σ², z_bias = D/√Var(D)
 // (pixels are independent estimates, so D is Gaussian by the CLT). It catches small global shifts
 // (a +3% reflectance change) that no single low-spp pixel can, Šidák-corrected over channels at
 // bias_alpha. A channel failing it fails the comparison.
 //
-// Channel modes: UInt channels (ids) and exact_channels must match exactly; channels with an
-// absolute tolerance reject when |d| > tol; the rest are statistical (z-test, or the Cycles-style
+// Channel modes: exact_channels must match exactly; channels with an absolute tolerance reject when
+// |d| > tol; UInt channels (ids) not listed in either match exactly; the rest are statistical (z-test, or the Cycles-style
 // threshold when fail_threshold is set). Shares: the z-test verdict uses rejecting pixel-channels /
 // tested pixel-channels ≤ max_reject_fraction. The Cycles-style fallback matches OpenImageIO idiff
 // as Blender's render tests run it (`idiff -fail T -failpercent P`): a pixel fails when any tested

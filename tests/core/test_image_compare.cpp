@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <unistd.h>
@@ -190,6 +191,17 @@ TEST(ImageCompare, ZeroVarianceNeedsAMatch) {
   test = ref;
   test.pixels[0] = std::nanf("");
   EXPECT_EQ(compare_images(test, ref, {}).rejected, 1);
+  // Equal infinities (a miss's depth) match; different ones do not.
+  test = ref;
+  ref.pixels[2] = test.pixels[2] = std::numeric_limits<float>::infinity();
+  ref.pixels[3] = test.pixels[3] = std::nanf("");  // its variance
+  CompareOptions tol;
+  tol.abs_tolerances = {{"Y", 0.001}};
+  EXPECT_EQ(compare_images(test, ref, {}).rejected, 0);
+  EXPECT_EQ(compare_images(test, ref, tol).rejected, 0);
+  test.pixels[2] = -std::numeric_limits<float>::infinity();
+  EXPECT_EQ(compare_images(test, ref, {}).rejected, 1);
+  EXPECT_EQ(compare_images(test, ref, tol).rejected, 1);
 }
 
 TEST(ImageCompare, ExactAndToleranceChannels) {
@@ -223,6 +235,16 @@ TEST(ImageCompare, ExactAndToleranceChannels) {
   EXPECT_THROW(compare_images(test, ref, ask), Error);
   ask.exact_channels = {"Z"};
   EXPECT_EQ(compare_images(test, ref, ask).channels[0].test, ChannelTest::Exact);
+  // An explicit tolerance overrides the exactness of an integer channel.
+  CompareOptions id_tol;
+  id_tol.channels = {"id.instance"};
+  id_tol.abs_tolerances = {{"id.instance", 1.0}};
+  const CompareResult loose = compare_images(test, ref, id_tol);
+  EXPECT_EQ(loose.channels[0].test, ChannelTest::AbsTolerance);
+  EXPECT_EQ(loose.rejected, 0);  // id 5 vs 4: |d| = 1 is not above 1
+  id_tol.abs_tolerances = {{"id.instance", 0.5}};
+  EXPECT_EQ(compare_images(test, ref, id_tol).rejected, 1);
+
 }
 
 TEST(ImageCompare, ThresholdFallbackMatchesIdiff) {
