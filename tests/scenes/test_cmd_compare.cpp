@@ -51,7 +51,12 @@ class CompareCommand : public ::testing::Test {
     r.err = slurp(err);
     return r;
   }
-  std::string path(const std::string& name) const { return "'" + (dir_ / name).string() + "'"; }
+  std::string path(const std::string& name) const {
+    std::string quoted = "'";
+    quoted += (dir_ / name).string();
+    quoted += '\'';
+    return quoted;
+  }
 
   // R,G,B (+ var.*) drawn like a Monte Carlo estimate with `spp` samples of relative σ 0.5.
   void write(const std::string& name, int spp, float scale, uint64_t seed, bool variance = true, int size = 32) const {
