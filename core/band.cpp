@@ -116,10 +116,9 @@ SampledWavelengths WavelengthSampler::sample(float u) const {
   for (int i = 0; i < kLambdaCount; ++i) {
     float ui = u + static_cast<float>(i) / kLambdaCount;
     if (ui >= 1.0f) ui -= 1.0f;
-    float pdf = 0;
-    const float x = distribution_.sample(ui, &pdf);
-    wl.lambda_nm[i] = kLambdaMin + x * range;
-    wl.pdf[i] = pdf / range;
+    const float x = distribution_.sample(ui, nullptr);
+    wl.lambda_nm[i] = std::min(kLambdaMin + x * range, std::nextafter(kLambdaMax, 0.0f));
+    wl.pdf[i] = pdf(wl.lambda_nm[i]);  // evaluated from λ so it agrees with pdf() at bin edges
   }
   return wl;
 }

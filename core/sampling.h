@@ -28,13 +28,15 @@ inline Vec3 sample_cosine_hemisphere(Vec2 u) {
 }
 inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(0.0f, cos_theta) * kInvPi; }
 
-// Uniform direction in the cone of half-angle acos(cos_max) about +Z; pdf = 1 / (2π(1 − cos_max)).
-inline Vec3 sample_uniform_cone(Vec2 u, float cos_max) {
-  const float cos_theta = (1.0f - u.x) + u.x * cos_max;
-  const float sin_theta = safe_sqrt(1.0f - cos_theta * cos_theta);
-  return spherical_direction(sin_theta, cos_theta, kTwoPi * u.y);
+// Uniform direction in the cone of half-angle α about +Z, given 1 − cos α (= 2 sin²(α/2), exact
+// for tiny cones such as the 0.27° sun where cos α rounds in float); pdf = 1 / (2π(1 − cos α)).
+inline Vec3 sample_uniform_cone(Vec2 u, float one_minus_cos_max) {
+  const float one_minus_cos = u.x * one_minus_cos_max;
+  const float sin_theta = safe_sqrt(one_minus_cos * (2.0f - one_minus_cos));
+  return spherical_direction(sin_theta, 1.0f - one_minus_cos, kTwoPi * u.y);
 }
-inline float uniform_cone_pdf(float cos_max) { return 1.0f / (kTwoPi * (1.0f - cos_max)); }
+inline float uniform_cone_pdf(float one_minus_cos_max) { return 1.0f / (kTwoPi * one_minus_cos_max); }
+inline float one_minus_cos(float half_angle_rad) { return 2.0f * sqr(std::sin(0.5f * half_angle_rad)); }
 
 // Uniform direction on the sphere; pdf = 1 / 4π.
 inline Vec3 sample_uniform_sphere(Vec2 u) {

@@ -71,7 +71,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
   if (sun.enabled) {
     if (!(sun.angular_radius_deg > 0 && sun.angular_radius_deg < 10)) throw Error("sun: angular radius must be in (0, 10) degrees");
     sun_frame_ = Frame::from_z(sun_dir);
-    sun_cos_max_ = std::cos(radians(sun.angular_radius_deg));
+    sun_one_minus_cos_ = one_minus_cos(radians(sun.angular_radius_deg));
     sun_radiance_ = sun.irradiance;
     sun_radiance_ *= 1.0f / (kPi * sqr(std::sin(radians(sun.angular_radius_deg))));
     sun_power = static_cast<float>(sun.irradiance.integral());
@@ -126,7 +126,7 @@ SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths&
 
 SampledSpectrum Environment::eval(const Vec3& dir, const SampledWavelengths& wl) const {
   SampledSpectrum l = eval_sky(dir, wl);
-  if (sun_.enabled && glm::dot(dir, sun_frame_.z) >= sun_cos_max_) l += sun_radiance_.eval(wl);
+  if (sun_.enabled && in_sun(dir)) l += sun_radiance_.eval(wl);
   return l;
 }
 
@@ -143,7 +143,7 @@ float Environment::sky_pdf(const Vec3& dir) const {
 
 float Environment::pdf(const Vec3& dir) const {
   float p = 0;
-  if (p_sun_ > 0 && glm::dot(dir, sun_frame_.z) >= sun_cos_max_) p += p_sun_ * uniform_cone_pdf(sun_cos_max_);
+  if (p_sun_ > 0 && in_sun(dir)) p += p_sun_ * uniform_cone_pdf(sun_one_minus_cos_);
   if (p_sky_ > 0) p += p_sky_ * sky_pdf(dir);
   return p;
 }
@@ -151,7 +151,7 @@ float Environment::pdf(const Vec3& dir) const {
 LightSample Environment::sample(Vec2 u, float u_select, const SampledWavelengths& wl) const {
   LightSample s;
   if (u_select < p_sun_) {
-    s.wi = sun_frame_.to_world(sample_uniform_cone(u, sun_cos_max_));
+    s.wi = sun_frame_.to_world(sample_uniform_cone(u, sun_one_minus_cos_));
   } else if (p_sky_ > 0) {
     float p = 0;
     const Vec2 uv = sky_distribution_.sample(u, &p);

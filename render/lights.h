@@ -63,7 +63,18 @@ class Environment {
 
   const SunDesc& sun() const { return sun_; }
   const SkyDesc& sky() const { return sky_; }
-  float sun_cos_max() const { return sun_cos_max_; }
+  // Whether `dir` lies in the solar disc: |dir − axis|² ≤ 2(1 − cos α), precise for tiny α. The
+  // 1e-5 relative margin absorbs float rounding of directions sampled at the rim, so every sampled
+  // direction is inside (the margin changes the disc's solid angle by 1e-5).
+  bool in_sun(const Vec3& dir) const {
+    const Vec3 d = dir - sun_frame_.z;
+    return glm::dot(d, d) <= 2.0f * sun_one_minus_cos_ * (1.0f + 1e-5f);
+  }
+  const Vec3& sun_axis() const { return sun_frame_.z; }
+  const Frame& sun_frame() const { return sun_frame_; }
+  float sun_one_minus_cos() const { return sun_one_minus_cos_; }
+  // Probability that sample() draws from the sun (else the sky).
+  float sun_selection_probability() const { return p_sun_; }
   // Sky radiance spectrum for relative luminance 1.
   const DenseSpectrum& sky_radiance_scale() const { return sky_radiance_; }
 
@@ -74,7 +85,7 @@ class Environment {
   SunDesc sun_;
   SkyDesc sky_;
   Frame sun_frame_;
-  float sun_cos_max_ = 1.0f;
+  float sun_one_minus_cos_ = 0.0f;
   DenseSpectrum sun_radiance_;
   DenseSpectrum sky_radiance_;
   Distribution2D sky_distribution_;  // u = φ/2π, v = θ/θ_max
