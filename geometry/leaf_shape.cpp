@@ -3,6 +3,7 @@
 #include "core/math.h"
 
 #include <array>
+#include <cmath>
 
 namespace sylva {
 
@@ -15,6 +16,64 @@ bool inside_ellipse(float u, float v, float cu, float cv, float ru, float rv) {
   return sqr((u - cu) / ru) + sqr((v - cv) / rv) <= 1.0f;
 }
 
+// An ellipse with semi-axes (ru across, rv along) whose long axis is turned by `angle_rad` from +v
+// toward +u.
+bool inside_rotated_ellipse(float u, float v, float cu, float cv, float ru, float rv, float cos_a, float sin_a) {
+  const float du = u - cu, dv = v - cv;
+  const float along = du * sin_a + dv * cos_a;
+  const float across = du * cos_a - dv * sin_a;
+  return sqr(across / ru) + sqr(along / rv) <= 1.0f;
+}
+
+// A palmate (maple) outline: pointed lobes radiating from (0.5, cv). The radius in direction θ
+// (measured from +v, positive toward +u) rises linearly from `notch` to each lobe's length within
+// `half_width` radians of the lobe's direction, which makes pointed tips and sharp sinuses.
+template <size_t N>
+bool inside_palmate(float u, float v, float cv, const std::array<float, N>& lobe_dir,
+                    const std::array<float, N>& lobe_len, float half_width, float notch) {
+  const float du = u - 0.5f, dv = v - cv;
+  const float r2 = du * du + dv * dv;
+  if (r2 <= notch * notch) return true;
+  const float theta = std::atan2(std::abs(du), dv);  // symmetric about the midrib
+  float r = notch;
+  for (size_t i = 0; i < N; ++i) {
+    const float t = 1.0f - std::abs(theta - lobe_dir[i]) / half_width;
+    if (t > 0.0f) r = std::max(r, notch + (lobe_len[i] - notch) * t);
+  }
+  return r2 <= r * r;
+}
+
+// Weber & Penn §4.5 leaf outlines over the unit square (u across, v petiole → tip), symmetric
+// about the midrib u = 0.5.
+bool inside_oak3(float u, float v) {
+  // Three rounded lobes (two lateral, one terminal) on a tapering blade, as in a blackjack oak.
+  const float du = std::abs(u - 0.5f);
+  if (inside_ellipse(du, v, 0.0f, 0.45f, 0.23f, 0.45f)) return true;
+  if (sqr(du - 0.27f) + sqr(v - 0.6f) <= sqr(0.18f)) return true;
+  return sqr(du) + sqr(v - 0.8f) <= sqr(0.2f);
+}
+
+bool inside_maple3(float u, float v) {
+  static constexpr std::array<float, 3> dir = {0.0f, 1.05f, 2.3f};
+  static constexpr std::array<float, 3> len = {0.56f, 0.47f, 0.26f};
+  return inside_palmate(u, v, 0.4f, dir, len, 0.8f, 0.24f);
+}
+
+bool inside_maple5(float u, float v) {
+  static constexpr std::array<float, 4> dir = {0.0f, 0.8f, 1.6f, 2.5f};
+  static constexpr std::array<float, 4> len = {0.56f, 0.5f, 0.4f, 0.24f};
+  return inside_palmate(u, v, 0.42f, dir, len, 0.5f, 0.2f);
+}
+
+bool inside_leaflets3(float u, float v) {
+  // A terminal leaflet and two lateral leaflets turned 55° outward, on a short rachis.
+  const float du = std::abs(u - 0.5f);
+  if (du <= 0.015f && v <= 0.45f) return true;
+  if (inside_ellipse(du, v, 0.0f, 0.72f, 0.14f, 0.27f)) return true;
+  constexpr float c = 0.5735764f, s = 0.8191520f;  // cos, sin of 55°
+  return inside_rotated_ellipse(du, v, 0.22f, 0.4f, 0.11f, 0.24f, c, s);
+}
+
 }  // namespace
 
 bool leaf_shape_inside(LeafShape shape, float u, float v) {
@@ -22,8 +81,13 @@ bool leaf_shape_inside(LeafShape shape, float u, float v) {
     case LeafShape::Rectangle: return true;
     case LeafShape::Oval: return inside_ellipse(u, v, 0.5f, 0.5f, 0.5f, 0.5f);
     case LeafShape::Triangle: return std::abs(u - 0.5f) <= 0.5f * (1.0f - v);
-    default: return inside_ellipse(u, v, 0.5f, 0.5f, 0.5f, 0.5f);
+    case LeafShape::Oak3: return inside_oak3(u, v);
+    case LeafShape::Maple3: return inside_maple3(u, v);
+    case LeafShape::Maple5: return inside_maple5(u, v);
+    case LeafShape::Leaflets3: return inside_leaflets3(u, v);
+    case LeafShape::Count: break;
   }
+  return false;
 }
 
 float leaf_shape_coverage(LeafShape shape) {

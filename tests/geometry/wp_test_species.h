@@ -53,3 +53,37 @@ inline WeberPennParams weeping_willow() {
 }
 
 }  // namespace sylva::test
+
+namespace sylva::test {
+
+inline WeberPennParams black_tupelo() {
+  WeberPennParams p;
+  p.shape = 4; p.base_size = 0.2f; p.scale = 23; p.scale_v = 5; p.z_scale = 1; p.z_scale_v = 0;
+  p.levels = 4; p.ratio = 0.015f; p.ratio_power = 1.3f; p.lobes = 3; p.lobe_depth = 0.1f;
+  p.flare = 1; p.trunk_scale = 1; p.trunk_scale_v = 0; p.base_splits = 0;
+  set_level(p, 0, {1, 0, 1.1f, 0, 0, 0, 10, 0, 0, 40, 0, 0, 0, 0, 1});
+  set_level(p, 1, {0.3f, 0.05f, 1, 0, 0, 0, 10, 0, 0, 90, 60, -40, 140, 0, 50});
+  set_level(p, 2, {0.6f, 0.1f, 1, 0, 0, 0, 10, -10, 0, 150, 30, 10, 140, 0, 25});
+  set_level(p, 3, {0.4f, 0, 1, 0, 0, 0, 1, 0, 0, 0, 45, 10, 140, 0, 12});
+  p.leaves = 6; p.leaf_shape = LeafShape::Oval; p.leaf_scale = 0.3f; p.leaf_scale_x = 0.5f;
+  p.attraction_up = 0.5f; p.prune_ratio = 0;
+  p.envelope = {0.5f, 0.5f, 0.5f, 0.5f};
+  return p;
+}
+
+inline WeberPennParams california_black_oak() {
+  WeberPennParams p;
+  p.shape = 2; p.base_size = 0.05f; p.scale = 10; p.scale_v = 10; p.z_scale = 1; p.z_scale_v = 0;
+  p.levels = 3; p.ratio = 0.018f; p.ratio_power = 1.3f; p.lobes = 5; p.lobe_depth = 0.1f;
+  p.flare = 1.2f; p.trunk_scale = 1; p.trunk_scale_v = 0; p.base_splits = 2;
+  set_level(p, 0, {1, 0, 0.95f, 0.4f, 10, 0, 8, 0, 0, 90, 0, 0, 0, 0, 1});
+  set_level(p, 1, {0.8f, 0.1f, 1, 0.2f, 10, 10, 10, 40, -70, 150, 30, -30, 80, 0, 40});
+  set_level(p, 2, {0.2f, 0.05f, 1, 0.1f, 10, 10, 3, 0, 0, -30, 45, 10, 140, 0, 120});
+  set_level(p, 3, {0.4f, 0, 1, 0, 0, 0, 1, 0, 0, 0, 45, 10, 140, 0, 0});
+  p.leaves = 25; p.leaf_shape = LeafShape::Oval; p.leaf_scale = 0.12f; p.leaf_scale_x = 0.66f;
+  p.attraction_up = 0.8f; p.prune_ratio = 0;
+  p.envelope = {0.5f, 0.5f, 0.5f, 0.5f};
+  return p;
+}
+
+}  // namespace sylva::test
