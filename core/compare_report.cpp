@@ -71,7 +71,7 @@ std::vector<PreviewItem> make_items(const CompareResult& result) {
       const ChannelReport& c = result.channels[i];
       item.tested += c.tested;
       item.rejected += c.rejected;
-      item.bias_failed = item.bias_failed || c.bias_failed;
+      item.bias_failed = item.bias_failed || c.bias_failed || c.tile_failed;
       item.radiometric = item.radiometric && (c.test == ChannelTest::ZTest || c.test == ChannelTest::Threshold);
     }
     items.push_back(std::move(item));
@@ -189,6 +189,21 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
         for (size_t k = 0; k < 3; ++k)
           reject_rgb[p * 3 + k] = rejected ? (k == 0 ? 255 : 0) : static_cast<uint8_t>(ref_rgb[p * 3 + k] * 2 / 5);
       }
+    // Tiles failing the local mean-bias test get a yellow outline.
+    for (size_t i : item.result_channels) {
+      const ChannelReport& c = result.channels[i];
+      if (!c.tile_failed) continue;
+      const int x1 = std::min(ref.width, c.tile_x + result.bias_tile) - 1;
+      const int y1 = std::min(ref.height, c.tile_y + result.bias_tile) - 1;
+      for (int y = c.tile_y; y <= y1; ++y)
+        for (int x = c.tile_x; x <= x1; ++x)
+          if (x == c.tile_x || x == x1 || y == c.tile_y || y == y1) {
+            const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
+            reject_rgb[p * 3 + 0] = 255;
+            reject_rgb[p * 3 + 1] = 220;
+            reject_rgb[p * 3 + 2] = 0;
+          }
+    }
     write_png_rgb8(dir / (item.slug + "_reject.png"), ref.width, ref.height, reject_rgb);
   }
 
@@ -218,9 +233,12 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
                      static_cast<int64_t>(result.width) * result.height, format_share(result.limit));
   else
     h += fmt::format("<p>Per-pixel z-test: rejecting pixel-channels <b>{}</b> ({} of {}), limit {}; per "
-                     "pixel-channel &alpha; = {:.3g} (Šidák), |z| &gt; {:.3f}; mean-bias |z| &gt; {:.3f}.</p>\n",
+                     "pixel-channel &alpha; = {:.3g} (Šidák), |z| &gt; {:.3f}; mean-bias |z| &gt; {:.3f}{}.</p>\n",
                      format_share(result.reject_fraction), result.rejected, result.tested, format_share(result.limit),
-                     result.alpha_pixel, result.z_critical, result.bias_z_critical);
+                     result.alpha_pixel, result.z_critical, result.bias_z_critical,
+                     result.bias_tile > 0 ? fmt::format(", per {0}&times;{0} tile |z| &gt; {1:.3f}", result.bias_tile,
+                                                        result.tile_z_critical)
+                                          : std::string());
   if (result.worst.x >= 0)
     h += fmt::format("<p>Worst pixel ({}, {}) channel <code>{}</code>: test {:.6g}, reference {:.6g}, {} {:.4g}, p "
                      "{:.3g}.</p>\n",
@@ -231,26 +249,30 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
   std::vector<const ChannelReport*> channels;
   for (const ChannelReport& c : result.channels) channels.push_back(&c);
   std::stable_sort(channels.begin(), channels.end(), [](const ChannelReport* a, const ChannelReport* b) {
-    const bool fa = a->rejected > 0 || a->bias_failed, fb = b->rejected > 0 || b->bias_failed;
+    const bool fa = a->rejected > 0 || a->bias_failed || a->tile_failed;
+    const bool fb = b->rejected > 0 || b->bias_failed || b->tile_failed;
     if (fa != fb) return fa;
     return a->reject_fraction() > b->reject_fraction();
   });
   h += "<h2>Channels</h2>\n<table id=\"channels\">\n<tr><th>channel</th><th>test</th><th>rejected</th><th>share</th>"
-       "<th>mean rel. diff</th><th>mean |rel. diff|</th><th>max |diff|</th><th>bias z</th></tr>\n";
+       "<th>mean rel. diff</th><th>mean |rel. diff|</th><th>max |diff|</th><th>bias z</th><th>worst tile z</th></tr>\n";
   for (const ChannelReport* c : channels) {
-    const bool failing = c->rejected > 0 || c->bias_failed;
+    const bool failing = c->rejected > 0 || c->bias_failed || c->tile_failed;
     const char* mode = c->test == ChannelTest::ZTest       ? "z-test"
                        : c->test == ChannelTest::Threshold ? "threshold"
                        : c->test == ChannelTest::Exact     ? "exact"
                                                            : "abs. tolerance";
     h += fmt::format("<tr class=\"{}\"><td>{}</td><td>{}</td><td>{} / {}</td><td>{}</td><td>{:+.4g}%</td>"
-                     "<td>{:.4g}%</td><td>{:.4g}</td><td>{}</td></tr>\n",
+                     "<td>{:.4g}%</td><td>{:.4g}</td><td>{}</td><td>{}</td></tr>\n",
                      failing ? "fail" : "", html_escape(c->name), mode, c->rejected, c->tested,
                      format_share(c->reject_fraction()), 100.0 * c->mean_rel_diff, 100.0 * c->mean_abs_rel_diff,
                      c->max_abs_diff,
                      c->test == ChannelTest::ZTest && std::isfinite(result.bias_z_critical)
                          ? fmt::format("{:+.2f}{}", c->bias_z, c->bias_failed ? " (fails)" : "")
-                         : std::string("&ndash;"));
+                         : std::string("&ndash;"),
+                     c->tile_x >= 0 ? fmt::format("{:+.2f}{} at ({}, {})", c->tile_z, c->tile_failed ? " (fails)" : "",
+                                                  c->tile_x, c->tile_y)
+                                    : std::string("&ndash;"));
   }
   h += "</table>\n";
   if (!result.skipped.empty()) {
@@ -263,7 +285,7 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
 
   // Images, failing groups first.
   h += fmt::format("<h2>Images</h2>\n<p>|diff| is scaled by k = {:g}; rejecting pixels are red over the dimmed "
-                   "reference. Previews use the OCIO view &ldquo;{}&rdquo;; data channels (depth, normals, ids) are "
+                   "reference; a tile failing the local mean-bias test is outlined in yellow. Previews use the OCIO view &ldquo;{}&rdquo;; data channels (depth, normals, ids) are "
                    "mapped from the reference's range to black&ndash;white.</p>\n",
                    options.diff_scale, html_escape(options.view));
   for (const PreviewItem& item : items) {

@@ -65,6 +65,7 @@ struct ChannelPlan {
   VarianceSource test_var, ref_var;
   double test_var_scale = 0.0;  // estimate var_test as var_ref · this when only ref's is known
   double ref_var_scale = 0.0;   // estimate var_ref as var_test · this when only test's is known
+  double spp_test = 0.0, spp_ref = 0.0;  // both > 0: pool the per-sample variances
 };
 
 }  // namespace
@@ -141,7 +142,7 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
 
   const std::optional<double> spp_test = spp_of(test), spp_ref = spp_of(ref);
   std::vector<ChannelPlan> plans;
-  bool any_both = false, any_ref_only = false, any_test_only = false, any_scaled = false;
+  bool any_both = false, any_pooled = false, any_ref_only = false, any_test_only = false, any_scaled = false;
   for (const std::string& name : names) {
     require(name);
     ChannelPlan plan;
@@ -175,6 +176,11 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
       }
       if (plan.test_var && plan.ref_var) {
         any_both = true;
+        if (spp_test && spp_ref && *spp_test + *spp_ref > 2.0) {
+          any_pooled = true;
+          plan.spp_test = *spp_test;
+          plan.spp_ref = *spp_ref;
+        }
       } else if (spp_test && spp_ref) {
         any_scaled = true;
         if (plan.ref_var) plan.test_var_scale = *spp_ref / *spp_test;
@@ -191,7 +197,10 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
 
   {
     std::string model;
-    if (any_both) model = "var_ref + var_test";
+    if (any_both)
+      model = any_pooled ? fmt::format("pooled per-sample variance of test ({} spp) and reference ({} spp)",
+                                       *spp_test, *spp_ref)
+                         : "var_ref + var_test";
     if (any_ref_only) model += std::string(model.empty() ? "" : "; ") + (any_scaled ? "var_ref · (1 + spp_ref/spp_test)" : "var_ref only (test taken as exact)");
     if (any_test_only) model += std::string(model.empty() ? "" : "; ") + (any_scaled ? "var_test · (1 + spp_test/spp_ref)" : "var_test only (reference taken as exact)");
     result.variance_model = model;
@@ -216,6 +225,22 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   const int reject_c = result.error.channel_count() - 1;
   std::vector<uint8_t> pixel_failed(pixel_count, 0);
 
+  // Tiles of the mean-bias test: tile × tile pixels, partial at the right and bottom edges.
+  const int tile_size = options.bias_tile > 0 ? options.bias_tile : std::max(ref.width, ref.height);
+  const size_t tiles_x = static_cast<size_t>((ref.width + tile_size - 1) / tile_size);
+  const size_t tiles_y = static_cast<size_t>((ref.height + tile_size - 1) / tile_size);
+  const bool tiles_on = bias_on && options.bias_tile > 0 && tiles_x * tiles_y > 1;
+  auto tile_index = [&](size_t p) {
+    const size_t x = p % static_cast<size_t>(ref.width), y = p / static_cast<size_t>(ref.width);
+    return (y / static_cast<size_t>(tile_size)) * tiles_x + x / static_cast<size_t>(tile_size);
+  };
+  std::vector<double> tile_sum_d(tiles_x * tiles_y), tile_sum_var(tiles_x * tiles_y);
+  result.tile_z_critical =
+      tiles_on ? two_sided_z(-std::expm1(std::log1p(-options.bias_alpha) /
+                                         static_cast<double>(static_cast<size_t>(z_channels) * tiles_x * tiles_y)))
+               : kInf;
+  result.bias_tile = tiles_on ? tile_size : 0;
+
   double worst_badness = -1.0;
   const size_t tnc = test.channels.size(), rnc = ref.channels.size();
   for (size_t ci = 0; ci < plans.size(); ++ci) {
@@ -224,6 +249,8 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
     report.name = plan.name;
     report.test = plan.test;
     double sum_d = 0.0, sum_abs_d = 0.0, sum_abs_ref = 0.0, sum_var = 0.0, bias_sum_d = 0.0;
+    std::fill(tile_sum_d.begin(), tile_sum_d.end(), 0.0);
+    std::fill(tile_sum_var.begin(), tile_sum_var.end(), 0.0);
     for (size_t p = 0; p < pixel_count; ++p) {
       const double t = test.pixels[p * tnc + static_cast<size_t>(plan.test_c)];
       const double r = ref.pixels[p * rnc + static_cast<size_t>(plan.ref_c)];
@@ -235,8 +262,17 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
       switch (plan.test) {
         case ChannelTest::ZTest: {
           double var = 0.0;
-          if (plan.ref_var) var += std::max(0.0, plan.ref_var.at(p));
-          if (plan.test_var) var += std::max(0.0, plan.test_var.at(p));
+          if (plan.spp_test > 0.0) {
+            // Two-sample pooled variance: under H0 both images estimate the same per-sample σ².
+            const double nt = plan.spp_test, nr = plan.spp_ref;
+            const double s2 = ((nt - 1.0) * std::max(0.0, plan.test_var.at(p)) * nt +
+                               (nr - 1.0) * std::max(0.0, plan.ref_var.at(p)) * nr) /
+                              (nt + nr - 2.0);
+            var = s2 * (1.0 / nt + 1.0 / nr);
+          } else {
+            if (plan.ref_var) var += std::max(0.0, plan.ref_var.at(p));
+            if (plan.test_var) var += std::max(0.0, plan.test_var.at(p));
+          }
           if (plan.test_var_scale > 0.0) var += std::max(0.0, plan.ref_var.at(p)) * plan.test_var_scale;
           if (plan.ref_var_scale > 0.0) var += std::max(0.0, plan.test_var.at(p)) * plan.ref_var_scale;
           const double floor = options.variance_rel_floor * std::max(std::abs(t), std::abs(r));
@@ -255,9 +291,14 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
           reject = pval < result.alpha_pixel;
           badness = std::abs(z) / result.z_critical;
           error_value = std::abs(z);
-          if (finite && std::isfinite(var)) {
+          // Pixels that reject on their own are counted by the share; leaving them out of the bias
+          // sums keeps a single firefly from failing a whole tile or channel.
+          if (finite && std::isfinite(var) && !reject) {
             bias_sum_d += d;
             sum_var += var;
+            const size_t tile = tile_index(p);
+            tile_sum_d[tile] += d;
+            tile_sum_var[tile] += var;
           }
           break;
         }
@@ -305,6 +346,18 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
       report.bias_z = sum_var > 0.0 ? bias_sum_d / std::sqrt(sum_var) : (bias_sum_d == 0.0 ? 0.0 : kInf);
       report.bias_failed = std::abs(report.bias_z) > result.bias_z_critical;
     }
+    if (plan.test == ChannelTest::ZTest && tiles_on) {
+      for (size_t k = 0; k < tile_sum_d.size(); ++k) {
+        const double z = tile_sum_var[k] > 0.0 ? tile_sum_d[k] / std::sqrt(tile_sum_var[k])
+                                                : (tile_sum_d[k] == 0.0 ? 0.0 : kInf);
+        if (report.tile_x < 0 || std::abs(z) > std::abs(report.tile_z)) {
+          report.tile_z = z;
+          report.tile_x = static_cast<int>(k % tiles_x) * tile_size;
+          report.tile_y = static_cast<int>(k / tiles_x) * tile_size;
+        }
+      }
+      report.tile_failed = std::abs(report.tile_z) > result.tile_z_critical;
+    }
     result.tested += report.tested;
     result.rejected += report.rejected;
     result.channels.push_back(std::move(report));
@@ -315,7 +368,7 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   }
 
   bool bias_failed = false;
-  for (const ChannelReport& c : result.channels) bias_failed = bias_failed || c.bias_failed;
+  for (const ChannelReport& c : result.channels) bias_failed = bias_failed || c.bias_failed || c.tile_failed;
   if (result.threshold_mode) {
     // idiff: fail when nfail > failpercent/100 · npels.
     result.limit = options.fail_percent / 100.0;
@@ -331,8 +384,11 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
 
 std::string format_compare_summary(const CompareResult& r) {
   std::string s;
-  bool bias_failed = false;
-  for (const ChannelReport& c : r.channels) bias_failed = bias_failed || c.bias_failed;
+  bool bias_failed = false, tile_failed = false;
+  for (const ChannelReport& c : r.channels) {
+    bias_failed = bias_failed || c.bias_failed;
+    tile_failed = tile_failed || c.tile_failed;
+  }
   s += fmt::format("{}: {}x{}, {}\n", r.passed ? "PASS" : "FAIL", r.width, r.height,
                    r.threshold_mode ? "threshold test (Cycles/idiff style)" : "per-pixel z-test");
   if (r.threshold_mode) {
@@ -340,24 +396,29 @@ std::string format_compare_summary(const CompareResult& r) {
                      r.failing_pixels, static_cast<int64_t>(r.width) * r.height, 100.0 * r.limit);
   } else {
     s += fmt::format("  rejecting pixel-channels: {:.4g}% ({} of {}), limit {:.4g}%{}\n", 100.0 * r.reject_fraction,
-                     r.rejected, r.tested, 100.0 * r.limit, bias_failed ? "; mean-bias test FAILED" : "");
-    s += fmt::format("  per pixel-channel: alpha {:.3g} (Sidak), |z| > {:.3f}; mean-bias |z| > {:.3f}\n", r.alpha_pixel,
+                     r.rejected, r.tested, 100.0 * r.limit,
+                     bias_failed ? "; mean-bias test FAILED" : tile_failed ? "; tile mean-bias test FAILED" : "");
+    s += fmt::format("  per pixel-channel: alpha {:.3g} (Sidak), |z| > {:.3f}; mean-bias |z| > {:.3f}", r.alpha_pixel,
                      r.z_critical, r.bias_z_critical);
+    s += r.bias_tile > 0 ? fmt::format(", per {}x{} tile |z| > {:.3f}\n", r.bias_tile, r.bias_tile, r.tile_z_critical)
+                         : std::string("\n");
     if (!r.variance_model.empty()) s += fmt::format("  variance of the difference: {}\n", r.variance_model);
   }
   if (r.worst.x >= 0)
     s += fmt::format("  worst: pixel ({}, {}) channel {}: test {:.6g}, ref {:.6g}, {} {:.4g}, p {:.3g}\n", r.worst.x,
                      r.worst.y, r.worst.channel, r.worst.test, r.worst.ref, r.threshold_mode ? "d/T" : "z", r.worst.z,
                      r.worst.p);
-  s += fmt::format("  {:<14} {:<9} {:>17} {:>9} {:>14} {:>16} {:>10}\n", "channel", "test", "rejected", "share",
-                   "mean rel diff", "mean |rel diff|", "bias z");
+  s += fmt::format("  {:<14} {:<9} {:>17} {:>9} {:>14} {:>16} {:>10} {:>22}\n", "channel", "test", "rejected", "share",
+                   "mean rel diff", "mean |rel diff|", "bias z", "worst tile z");
   for (const ChannelReport& c : r.channels)
-    s += fmt::format("  {:<14} {:<9} {:>17} {:>8.4g}% {:>+13.4g}% {:>15.4g}% {:>10}\n", c.name, test_name(c.test),
+    s += fmt::format("  {:<14} {:<9} {:>17} {:>8.4g}% {:>+13.4g}% {:>15.4g}% {:>10} {:>22}\n", c.name, test_name(c.test),
                      fmt::format("{}/{}", c.rejected, c.tested), 100.0 * c.reject_fraction(), 100.0 * c.mean_rel_diff,
                      100.0 * c.mean_abs_rel_diff,
                      c.test == ChannelTest::ZTest && std::isfinite(r.bias_z_critical)
                          ? fmt::format("{:+.2f}{}", c.bias_z, c.bias_failed ? "!" : "")
-                         : std::string("-"));
+                         : std::string("-"),
+                     c.tile_x >= 0 ? fmt::format("{:+.2f}{} at ({},{})", c.tile_z, c.tile_failed ? "!" : "", c.tile_x, c.tile_y)
+                                   : std::string("-"));
   if (!r.skipped.empty()) {
     std::string list;
     for (const std::string& c : r.skipped) list += (list.empty() ? "" : ", ") + c;

@@ -6,20 +6,26 @@
 // estimator's variance, σ²/spp), e.g. "var.R", "var.nir.Y". A companion variance file may instead
 // hold the plain names ("R", "nir.Y") or the var.* names.
 //
-// Per-pixel z-test (Mitsuba-style): for each pixel-channel d = test − ref,
-//   σ² = var_ref + var_test,  z = d / σ,  p = erfc(|z| / √2)  (two-sided),
+// Per-pixel z-test (Mitsuba-style): for each pixel-channel d = test − ref, σ² = Var(d),
+//   z = d / σ,  p = erfc(|z| / √2)  (two-sided),
 // rejected when p < α_pixel = 1 − (1 − α)^(1/n) (Šidák over the n z-tested pixel-channels).
-// When only one side's variance is known and both headers carry "sylva:spp", the other side's is
-// estimated as var_known · spp_known / spp_other (same per-sample variance); without spp it is taken
-// as 0 (an exact reference). Zero variance: σ is floored at variance_rel_floor · max(|test|, |ref|),
+// Var(d): with both variances and both sample counts (header "sylva:spp") known, the per-sample
+// variances are pooled, s² = ((n_t−1)·n_t·var_t + (n_r−1)·n_r·var_r) / (n_t+n_r−2), σ² = s²(1/n_t+1/n_r)
+// (under H0 both images sample the same distribution; a low-spp test's own variance estimate is
+// far too noisy on its own — a sky pixel at 16 spp can underestimate it 100×). With both variances
+// but no spp: σ² = var_ref + var_test. With one side's variance and both spp: the other side's is
+// var_known · spp_known / spp_other; without spp it is taken as 0 (an exact reference). Zero variance: σ is floored at variance_rel_floor · max(|test|, |ref|),
 // so a noiseless pixel must match to ~1e-5 relative (float rounding passes, anything else rejects);
 // two exact zeros pass. Identical values always pass (also equal infinities); otherwise a non-finite
 // test or reference value rejects.
 //
 // Mean-bias test (on by default): per channel, D = Σ d over pixels, Var(D) = Σ σ², z_bias = D/√Var(D)
-// (pixels are independent estimates, so D is Gaussian by the CLT). It catches small global shifts
-// (a +3% reflectance change) that no single low-spp pixel can, Šidák-corrected over channels at
-// bias_alpha. A channel failing it fails the comparison.
+// (pixels are independent estimates, so D is Gaussian by the CLT). It catches small shifts (a +3%
+// reflectance change) that no single low-spp pixel can. Two scales, each Šidák-corrected at
+// bias_alpha: the whole image (over channels) and bias_tile × bias_tile tiles (over tiles ×
+// channels), the latter for changes confined to part of the image. Pixels that reject on their own
+// are left out of these sums (the share counts them), so one firefly cannot fail a tile. A channel
+// failing either scale fails the comparison.
 //
 // Channel modes: exact_channels must match exactly; channels with an absolute tolerance reject when
 // |d| > tol; UInt channels (ids) not listed in either match exactly; the rest are statistical (z-test, or the Cycles-style
@@ -47,7 +53,8 @@ struct CompareOptions {
   std::vector<std::string> exact_channels;                     // compared exactly (UInt always is)
   std::vector<std::pair<std::string, double>> abs_tolerances;  // channel → absolute tolerance
   double variance_rel_floor = 1e-5;     // σ ≥ this · max(|test|, |ref|)
-  double bias_alpha = 1e-3;             // mean-bias test level (Šidák over channels); 0 disables it
+  double bias_alpha = 1e-3;             // mean-bias test level (per scale, Šidák); 0 disables it
+  int bias_tile = 16;                   // tile size of the local mean-bias test; 0: whole image only
   std::optional<double> fail_threshold; // Cycles-style fallback: |d| > T fails a pixel ...
   double fail_percent = 0.0;            // ... and > P% failing pixels fail the image (idiff's default 0)
 };
@@ -62,6 +69,9 @@ struct ChannelReport {
   double max_abs_diff = 0.0;
   double bias_z = 0.0;             // mean-bias z (ZTest channels with the bias test on)
   bool bias_failed = false;
+  double tile_z = 0.0;             // the tile mean-bias z of largest magnitude ...
+  int tile_x = -1, tile_y = -1;    // ... and its tile's top-left pixel
+  bool tile_failed = false;
   double reject_fraction() const { return tested > 0 ? static_cast<double>(rejected) / static_cast<double>(tested) : 0.0; }
 };
 
@@ -86,6 +96,8 @@ struct CompareResult {
   double alpha_pixel = 0.0;             // Šidák-corrected per-pixel-channel level
   double z_critical = 0.0;              // |z| above which a pixel-channel rejects
   double bias_z_critical = 0.0;
+  double tile_z_critical = 0.0;
+  int bias_tile = 0;                    // tile size used (0: no tile test)
   WorstPixel worst;
   bool passed = false;
   // Per tested channel (same order as `channels`): error holds |z| (or |d|/tol, exact: 0/1) plus

@@ -49,6 +49,7 @@ struct CompareArgs {
   double fail = -1.0;  // < 0: no threshold fallback
   double fail_percent = 0.0;
   double bias_alpha = 1e-3;
+  int bias_tile = 16;
   float diff_scale = 16.0f;
   std::string view = "Standard";
 };
@@ -63,6 +64,7 @@ int run_compare(const CompareArgs& a) {
   if (a.fail >= 0.0) options.fail_threshold = a.fail;
   options.fail_percent = a.fail_percent;
   options.bias_alpha = a.bias_alpha;
+  options.bias_tile = a.bias_tile;
 
   const Image test = read_exr(a.test);
   const Image ref = read_exr(a.ref);
@@ -116,9 +118,13 @@ CommandRun add_compare_command(CLI::App& parent) {
       ->capture_default_str()
       ->needs(fail)
       ->check(CLI::Range(0.0, 100.0));
-  cmd->add_option("--bias-alpha", args->bias_alpha, "Level of the per-channel mean-bias test (0 disables it)")
+  cmd->add_option("--bias-alpha", args->bias_alpha,
+                  "Level of the mean-bias tests over the image and over tiles (0 disables them)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.5));
+  cmd->add_option("--bias-tile", args->bias_tile, "Tile size of the local mean-bias test (0: whole image only)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1 << 20));
   cmd->add_option("--report", args->report, "Write test/ref/error/pvalue EXRs, PNG previews and index.html here");
   cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")->capture_default_str();
   cmd->add_option("--view", args->view, "OCIO view of the report's previews (Standard, ACES, Raw)")->capture_default_str();

@@ -36,6 +36,7 @@ struct Draw {
   float rel_sigma = 0.5f;  // per-sample σ as a fraction of μ
   float scale = 1.0f;      // multiplies μ (a biased renderer)
   int shift_x = 0;         // samples μ(x − shift_x, y) (a shifted camera)
+  int patch = 0;           // > 0: `scale` applies only to the patch × patch square at (16, 16)
   bool variance_layer = true;
 };
 
@@ -60,7 +61,8 @@ Image draw_image(const Draw& d, uint64_t seed) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x)
       for (int c = 0; c < 3; ++c) {
-        const double mu = d.scale * structured_mean(std::clamp(x - d.shift_x, 0, kSize - 1), y, c);
+        const bool scaled = d.patch == 0 || (x >= 16 && x < 16 + d.patch && y >= 16 && y < 16 + d.patch);
+        const double mu = (scaled ? d.scale : 1.0f) * structured_mean(std::clamp(x - d.shift_x, 0, kSize - 1), y, c);
         const double var_mean = std::pow(d.rel_sigma * mu, 2) / d.spp;
         image.at(x, y, c) = static_cast<float>(mu + normal(rng) * std::sqrt(var_mean));
         const double estimate = var_mean * chi2_half(rng) / (d.spp - 1);
@@ -89,16 +91,20 @@ TEST(ImageCompare, SidakLevelAndNormalQuantiles) {
 TEST(ImageCompare, SameDistributionPassesInNearlyAllTrials) {
   constexpr int kTrials = 40;
   int passes = 0;
-  double worst_share = 0.0, worst_bias = 0.0;
+  double worst_share = 0.0, worst_bias = 0.0, worst_tile = 0.0;
   for (int t = 0; t < kTrials; ++t) {
     const Image ref = draw_image(kReference, 1000 + t), test = draw_image(kTest, 2000 + t);
     const CompareResult r = compare_images(test, ref, {});
     passes += r.passed ? 1 : 0;
     worst_share = std::max(worst_share, r.reject_fraction);
-    for (const ChannelReport& c : r.channels) worst_bias = std::max(worst_bias, std::abs(c.bias_z));
+    for (const ChannelReport& c : r.channels) {
+      worst_bias = std::max(worst_bias, std::abs(c.bias_z));
+      worst_tile = std::max(worst_tile, std::abs(c.tile_z));
+    }
   }
   std::cout << "same distribution (64 vs 4096 spp): " << passes << "/" << kTrials
-            << " pass, worst rejecting share " << 100.0 * worst_share << "%, worst |bias z| " << worst_bias << "\n";
+            << " pass, worst rejecting share " << 100.0 * worst_share << "%, worst |bias z| " << worst_bias
+            << ", worst |tile z| " << worst_tile << "\n";
   EXPECT_GE(passes, kTrials - 1);  // nominal false-failure rate ≈ 1% + 0.1%
   EXPECT_LT(worst_share, 0.0025);
 }
@@ -135,6 +141,31 @@ TEST(ImageCompare, ThreePercentShiftFails) {
     std::cout << "same distribution at 1024 spp: rejecting share " << 100.0 * same.reject_fraction << "%\n";
     EXPECT_TRUE(same.passed);
   }
+}
+
+TEST(ImageCompare, LocalThreePercentShiftFailsTheTileTest) {
+  // +3% on one 16×16 tile at 64 spp: invisible per pixel and in the image mean, clear per tile.
+  Draw patch = kTest;
+  patch.scale = 1.03f;
+  patch.patch = 16;
+  const CompareResult r = compare_images(draw_image(patch, 61), draw_image(kReference, 62), {});
+  std::cout << "+3% on a 16x16 patch at 64 spp: rejecting share " << 100.0 * r.reject_fraction << "%, tile z "
+            << r.channels[0].tile_z << " " << r.channels[1].tile_z << " " << r.channels[2].tile_z << " (critical "
+            << r.tile_z_critical << "), image bias z " << r.channels[0].bias_z << "\n";
+  EXPECT_FALSE(r.passed);
+  EXPECT_LT(r.reject_fraction, r.limit);
+  int tiles_failed = 0;  // expected tile z ≈ 6.5 ± 1 per channel against a critical 4.26
+  for (const ChannelReport& c : r.channels) {
+    EXPECT_FALSE(c.bias_failed) << c.name;
+    if (!c.tile_failed) continue;
+    ++tiles_failed;
+    EXPECT_EQ(c.tile_x, 16);
+    EXPECT_EQ(c.tile_y, 16);
+  }
+  EXPECT_GE(tiles_failed, 2);
+  CompareOptions no_tiles;
+  no_tiles.bias_tile = 0;
+  EXPECT_TRUE(compare_images(draw_image(patch, 61), draw_image(kReference, 62), no_tiles).passed);
 }
 
 TEST(ImageCompare, OnePixelShiftFails) {
