@@ -75,6 +75,8 @@ EmbreeScene::EmbreeScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
 
   for (const Prototype& proto : scene.prototypes) {
     RTCScene s = rtcNewScene(device);
+    // Robust mode keeps grazing hits on large triangles (a ground plane to the horizon) watertight.
+    rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_HIGH);
     unsigned leaf_id = RTC_INVALID_GEOMETRY_ID;
     const TriangleMesh& tm = proto.triangles;
@@ -133,6 +135,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   }
 
   impl_->top = rtcNewScene(device);
+  rtcSetSceneFlags(impl_->top, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(impl_->top, RTC_BUILD_QUALITY_HIGH);
   for (size_t i = 0; i < scene.instances.size(); ++i) {
     const Instance& inst = scene.instances[i];

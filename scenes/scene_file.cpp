@@ -6,6 +6,7 @@
 #include "core/rng.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitives.h"
+#include "scenes/species.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
@@ -36,7 +37,7 @@ class SceneParser {
   SceneParser(TomlReader& reader, std::filesystem::path base_dir) : r_(reader), base_dir_(std::move(base_dir)) {}
 
   SceneFile parse(const toml::table& root) {
-    r_.check_keys(root, {"camera", "sun", "sky", "materials", "meshes", "render", "output", "bands"}, "the scene");
+    r_.check_keys(root, {"camera", "sun", "sky", "materials", "meshes", "trees", "render", "output", "bands"}, "the scene");
     parse_render(root);
     parse_bands(root);
     parse_camera(root);
@@ -44,9 +45,14 @@ class SceneParser {
     parse_sky(root);
     parse_materials(root);
     parse_meshes(root);
+    parse_trees(root);
     parse_output(root);
     return std::move(out_);
   }
+
+  // Hash of everything the scene reads besides its own text (species files), for checkpoints and
+  // golden headers.
+  uint64_t dependency_hash() const { return dependency_hash_; }
 
  private:
   std::filesystem::path resolve(const toml::node& at, const std::string& rel) const {
@@ -322,21 +328,73 @@ class SceneParser {
         }
         (p.leaves.size() > 0 ? p.leaf_material : p.triangle_material) = material;
       }
-      const uint32_t proto = out_.scene.add_prototype(std::move(p));
-      const uint32_t object_id = static_cast<uint32_t>(r_.integer(*t, "object_id", 0, 0, 1 << 24));
-      const Mat4 base = transform(*t);
-      if (const toml::array* inst = r_.array(*t, "instances")) {
-        for (const toml::node& in : *inst) {
-          const toml::table* it = in.as_table();
-          if (!it) r_.fail(in, "expected a table { translate, rotate, scale, object_id } in instances");
-          r_.check_keys(*it, {"translate", "rotate", "scale", "object_id"}, "an instance");
-          out_.scene.instances.push_back(Instance{
-              proto, transform(*it) * base,
-              static_cast<uint32_t>(r_.integer(*it, "object_id", object_id, 0, 1 << 24))});
-        }
-      } else {
-        out_.scene.instances.push_back(Instance{proto, base, object_id});
+      place(*t, out_.scene.add_prototype(std::move(p)));
+    }
+  }
+
+  // Places instances of a prototype: `instances = [{translate, rotate, scale, object_id}, ...]` or
+  // the table's own transform.
+  void place(const toml::table& t, uint32_t proto) {
+    const uint32_t object_id = static_cast<uint32_t>(r_.integer(t, "object_id", 0, 0, 1 << 24));
+    const Mat4 base = transform(t);
+    if (const toml::array* inst = r_.array(t, "instances")) {
+      for (const toml::node& in : *inst) {
+        const toml::table* it = in.as_table();
+        if (!it) r_.fail(in, "expected a table { translate, rotate, scale, object_id } in instances");
+        r_.check_keys(*it, {"translate", "rotate", "scale", "object_id"}, "an instance");
+        out_.scene.instances.push_back(
+            Instance{proto, transform(*it) * base, static_cast<uint32_t>(r_.integer(*it, "object_id", object_id, 0, 1 << 24))});
       }
+    } else {
+      out_.scene.instances.push_back(Instance{proto, base, object_id});
+    }
+  }
+
+  // [[trees]]: a generated tree (species file + seed), meshed once per distinct (species, seed,
+  // options) and instanced.
+  void parse_trees(const toml::table& root) {
+    const toml::array* a = r_.array(root, "trees");
+    if (!a) return;
+    for (const toml::node& n : *a) {
+      const toml::table* t = n.as_table();
+      if (!t) r_.fail(n, "expected a table in [[trees]]");
+      r_.check_keys(*t,
+                    {"name", "species", "seed", "bark", "leaf", "quality", "time", "wind", "translate", "rotate", "scale",
+                     "object_id", "instances"},
+                    "[[trees]]");
+      const std::string species_name = r_.string(*t, "species");
+      const std::filesystem::path file = resolve(*t->get("species"), species_name);
+      TreeOptions options;
+      options.quality = r_.number_in(*t, "quality", 1.0, 0.01, 100.0);
+      options.time_s = r_.number_in(*t, "time", 0.0, -1e9, 1e9);
+      const Vec2 wind = r_.vec2(*t, "wind", Vec2(0.0f));
+      if (wind.x < 0 || wind.y < 0) r_.fail(*t->get("wind"), "wind = [speed, gust] must not be negative");
+      options.wind_speed = wind.x;
+      options.wind_gust = wind.y;
+      const uint64_t seed = static_cast<uint64_t>(r_.integer(*t, "seed", 1, 0, INT64_MAX));
+      const uint32_t bark = material_ref(*t, "bark"), leaf = material_ref(*t, "leaf");
+      const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
+                                          options.wind_speed, options.wind_gust, bark, leaf);
+      auto it = tree_prototypes_.find(key);
+      if (it == tree_prototypes_.end()) {
+        auto sp = species_.find(file.string());
+        if (sp == species_.end()) {
+          std::ifstream in(file, std::ios::binary);
+          std::stringstream text;
+          text << in.rdbuf();
+          dependency_hash_ = hash_ids(dependency_hash_, hash_text(text.str()));
+          sp = species_.emplace(file.string(), parse_species(text.str(), file)).first;
+        }
+        TreeMesh mesh = make_species_mesh(sp->second, seed, options);
+        Prototype p;
+        p.name = r_.string(*t, "name", sp->second.name);
+        p.triangles = std::move(mesh.stems);
+        p.triangle_material = bark;
+        p.leaves = std::move(mesh.leaves);
+        p.leaf_material = leaf;
+        it = tree_prototypes_.emplace(key, out_.scene.add_prototype(std::move(p))).first;
+      }
+      place(*t, it->second);
     }
   }
 
@@ -356,6 +414,9 @@ class SceneParser {
   std::filesystem::path base_dir_;
   SceneFile out_;
   std::map<std::string, uint32_t> material_ids_;
+  std::map<std::string, uint32_t> tree_prototypes_;
+  std::map<std::string, Species> species_;
+  uint64_t dependency_hash_ = 0;
 };
 
 }  // namespace
@@ -365,7 +426,7 @@ SceneFile parse_scene(const std::string& text, const std::string& name, const st
   const toml::table root = reader.parse(text);
   SceneParser parser(reader, base_dir);
   SceneFile file = parser.parse(root);
-  file.content_hash = hex64(hash_text(text));
+  file.content_hash = hex64(hash_ids(hash_text(text), parser.dependency_hash()));
   return file;
 }
 
