@@ -13,8 +13,8 @@ namespace sylva {
 // The display every preview goes to.
 inline constexpr std::string_view preview_display = "sRGB";
 
-// Loads and validates an OCIO config (empty path: data_file("ocio/config.ocio")); configs are cached
-// per path, so repeated calls are cheap and thread-safe. Throws sylva::Error("path: why").
+// Loads and validates an OCIO config (empty path: data_file("ocio/config.ocio")); configs are
+// cached per path, so repeated calls are cheap and thread-safe. Throws sylva::Error("path: why").
 void validate_ocio_config(const std::filesystem::path& config = {});
 
 // The views of the preview display, in the config's order (e.g. "Standard", "ACES", "Raw").

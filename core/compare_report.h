@@ -20,8 +20,8 @@
 namespace sylva {
 
 struct ReportOptions {
-  float diff_scale = 16.0f;       // k in |diff|×k (Blender's render tests use idiff -abs -scale 16)
-  std::string view = "Standard";  // OCIO view of the previews (color.h)
+  float diff_scale = 16.0f;  // k in |diff|×k (Blender's render tests use idiff -abs -scale 16)
+  std::string view = "Standard";                             // OCIO view of the previews (color.h)
   std::string test_label = "test", ref_label = "reference";  // shown in the HTML (e.g. file paths)
   std::string command;  // the command line, shown in the HTML when set
 };

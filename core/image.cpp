@@ -6,6 +6,7 @@
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -13,23 +14,26 @@
 #include <cstring>
 #include <functional>
 #include <system_error>
-#include <unistd.h>
 
 namespace sylva {
 namespace {
 
 OIIO::TypeDesc storage_type(PixelType type) {
   switch (type) {
-    case PixelType::Float: return OIIO::TypeDesc::FLOAT;
-    case PixelType::Half: return OIIO::TypeDesc::HALF;
-    case PixelType::UInt: return OIIO::TypeDesc::UINT32;
+    case PixelType::Float:
+      return OIIO::TypeDesc::FLOAT;
+    case PixelType::Half:
+      return OIIO::TypeDesc::HALF;
+    case PixelType::UInt:
+      return OIIO::TypeDesc::UINT32;
   }
   return OIIO::TypeDesc::FLOAT;
 }
 
 // Runs `write(temporary)` and renames the temporary over `path`; on any failure the temporary is
 // removed and a sylva::Error("path: why") is thrown.
-void write_atomically(const std::filesystem::path& path, const std::function<void(const std::string&)>& write) {
+void write_atomically(const std::filesystem::path& path,
+                      const std::function<void(const std::string&)>& write) {
   const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
   auto discard = [&] {
     std::error_code ignored;
@@ -95,7 +99,8 @@ Image make_image(int width, int height, std::vector<std::string> channels, Pixel
   image.height = height;
   image.types.assign(channels.size(), type);
   image.channels = std::move(channels);
-  image.pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * image.channels.size(), 0.0f);
+  image.pixels.assign(
+      static_cast<size_t>(width) * static_cast<size_t>(height) * image.channels.size(), 0.0f);
   return image;
 }
 
@@ -104,7 +109,8 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   if (image.width <= 0 || image.height <= 0 || nc == 0)
     throw Error(path.string() + ": cannot write an empty image");
   if (image.types.size() != image.channels.size() ||
-      image.pixels.size() != static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * image.channels.size())
+      image.pixels.size() != static_cast<size_t>(image.width) * static_cast<size_t>(image.height) *
+                                 image.channels.size())
     throw Error(path.string() + ": inconsistent image (channels, types and pixels disagree)");
 
   OIIO::ImageSpec spec(image.width, image.height, nc, OIIO::TypeDesc::FLOAT);
@@ -114,12 +120,13 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   spec.alpha_channel = image.find_channel("A");
   spec.z_channel = image.find_channel("Z");
   spec.attribute("compression", "zip");
-  // OpenImageIO stamps the current time (EXR capDate) unless told otherwise; an empty DateTime keeps
-  // files byte-identical for identical images, so renders can be checked by file hash.
+  // OpenImageIO stamps the current time (EXR capDate) unless told otherwise; an empty DateTime
+  // keeps files byte-identical for identical images, so renders can be checked by file hash.
   spec.attribute("DateTime", "");
   for (const auto& [key, value] : image.attributes) spec.attribute(key, value);
   if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0)
-    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709_chromaticities.data());
+    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8),
+                   rec709_chromaticities.data());
 
   // Native per-channel layout: OIIO would treat integer formats as normalised if asked to convert
   // floats, so the pixels are packed here in each channel's own type.
@@ -136,14 +143,17 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
       const float v = image.pixels[p * static_cast<size_t>(nc) + static_cast<size_t>(c)];
       unsigned char* dst = packed.data() + p * pixel_bytes + offsets[static_cast<size_t>(c)];
       switch (image.types[static_cast<size_t>(c)]) {
-        case PixelType::Float: std::memcpy(dst, &v, sizeof v); break;
+        case PixelType::Float:
+          std::memcpy(dst, &v, sizeof v);
+          break;
         case PixelType::Half: {
           const Imath::half h(v);
           std::memcpy(dst, &h, sizeof h);
           break;
         }
         case PixelType::UInt: {
-          const uint32_t u = std::isfinite(v) && v > 0.0f ? static_cast<uint32_t>(std::lround(v)) : 0u;
+          const uint32_t u =
+              std::isfinite(v) && v > 0.0f ? static_cast<uint32_t>(std::lround(v)) : 0u;
           std::memcpy(dst, &u, sizeof u);
           break;
         }
@@ -175,7 +185,8 @@ Image read_exr(const std::filesystem::path& path) {
   image.channels = spec.channelnames;
   for (int c = 0; c < spec.nchannels; ++c) {
     const OIIO::TypeDesc f = spec.channelformat(c);
-    image.types.push_back(f.basetype == OIIO::TypeDesc::UINT32 || f.basetype == OIIO::TypeDesc::UINT16 ||
+    image.types.push_back(f.basetype == OIIO::TypeDesc::UINT32 ||
+                                  f.basetype == OIIO::TypeDesc::UINT16 ||
                                   f.basetype == OIIO::TypeDesc::UINT8
                               ? PixelType::UInt
                           : f.basetype == OIIO::TypeDesc::HALF ? PixelType::Half
@@ -183,7 +194,8 @@ Image read_exr(const std::filesystem::path& path) {
   }
   for (const OIIO::ParamValue& p : spec.extra_attribs) {
     const std::string name = p.name().string();
-    if (p.type() != OIIO::TypeString || name == "compression" || name.rfind("oiio:", 0) == 0) continue;
+    if (p.type() != OIIO::TypeString || name == "compression" || name.rfind("oiio:", 0) == 0)
+      continue;
     const std::string value = p.get_string();
     if (name == "DateTime" && value.empty()) continue;  // written by write_exr for determinism
     image.attributes.emplace_back(name, value);
@@ -201,22 +213,27 @@ Image read_exr(const std::filesystem::path& path) {
       ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::UINT32, plane.data());
       const OIIO::TypeDesc f = spec.channelformat(ci);
       // Narrow unsigned channels come back scaled to the 32-bit range; undo that exactly.
-      const uint32_t scale = f.basetype == OIIO::TypeDesc::UINT8 ? 0x01010101u
+      const uint32_t scale = f.basetype == OIIO::TypeDesc::UINT8    ? 0x01010101u
                              : f.basetype == OIIO::TypeDesc::UINT16 ? 0x00010001u
-                                                                   : 1u;
-      for (size_t p = 0; p < pixel_count; ++p) image.pixels[p * nc + c] = static_cast<float>(plane[p] / scale);
+                                                                    : 1u;
+      for (size_t p = 0; p < pixel_count; ++p)
+        image.pixels[p * nc + c] = static_cast<float>(plane[p] / scale);
     } else {
       std::vector<float> plane(pixel_count);
       ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::FLOAT, plane.data());
       for (size_t p = 0; p < pixel_count; ++p) image.pixels[p * nc + c] = plane[p];
     }
-    if (!ok) throw Error(path.string() + ": cannot read channel " + image.channels[c] + ": " + in->geterror());
+    if (!ok)
+      throw Error(path.string() + ": cannot read channel " + image.channels[c] + ": " +
+                  in->geterror());
   }
   return image;
 }
 
-void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
-  if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
+void write_png_rgb8(const std::filesystem::path& path, int width, int height,
+                    const std::vector<uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 ||
+      rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
     throw Error(path.string() + ": inconsistent PNG pixels");
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
@@ -235,7 +252,8 @@ std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions&
   int src[3];
   for (int i = 0; i < 3; ++i) {
     src[i] = image.find_channel(options.channels[static_cast<size_t>(i)]);
-    if (src[i] < 0) throw Error("no channel \"" + options.channels[static_cast<size_t>(i)] + "\" to preview");
+    if (src[i] < 0)
+      throw Error("no channel \"" + options.channels[static_cast<size_t>(i)] + "\" to preview");
   }
   const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
   const size_t nc = image.channels.size();
@@ -255,7 +273,8 @@ std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions&
   return bytes;
 }
 
-void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options) {
+void write_png_preview(const std::filesystem::path& path, const Image& image,
+                       const PreviewOptions& options) {
   std::vector<uint8_t> bytes;
   try {
     bytes = make_preview_rgb8(image, options);
@@ -270,7 +289,8 @@ void write_text_file(const std::filesystem::path& path, std::string_view text) {
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (f == nullptr) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
     const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !ok) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
+    if (std::fclose(f) != 0 || !ok)
+      throw Error(path.string() + ": cannot write: " + std::strerror(errno));
   });
 }
 

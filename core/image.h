@@ -20,8 +20,9 @@ namespace sylva {
 // Storage type of a channel in the EXR file. In memory every channel is a float.
 enum class PixelType : uint8_t { Float, Half, UInt };
 
-// A multi-channel image: pixels interleaved, index ((y*width + x)*channel_count + c), top row first.
-// UInt channels (IDs) are held as exact floats (ids < 2^24) and written as 32-bit unsigned in EXR.
+// A multi-channel image: pixels interleaved, index ((y*width + x)*channel_count + c), top row
+// first. UInt channels (IDs) are held as exact floats (ids < 2^24) and written as 32-bit unsigned
+// in EXR.
 struct Image {
   int width = 0, height = 0;
   std::vector<std::string> channels;  // EXR names
@@ -41,33 +42,36 @@ struct Image {
 
  private:
   size_t index(int x, int y, int c) const {
-    return (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * channels.size() +
+    return (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) *
+               channels.size() +
            static_cast<size_t>(c);
   }
 };
 
 // A zero-filled image with every channel of one type.
-Image make_image(int width, int height, std::vector<std::string> channels, PixelType type = PixelType::Float);
+Image make_image(int width, int height, std::vector<std::string> channels,
+                 PixelType type = PixelType::Float);
 
 // The "chromaticities" written with R,G,B: linear Rec.709 / sRGB primaries, D65 white
 // (x,y of red, green, blue, white).
-inline constexpr std::array<float, 8> rec709_chromaticities{0.64f, 0.33f, 0.30f, 0.60f,
+inline constexpr std::array<float, 8> rec709_chromaticities{0.64f, 0.33f, 0.30f,   0.60f,
                                                             0.15f, 0.06f, 0.3127f, 0.3290f};
 
 // Writes OpenEXR (ZIP compression) with per-channel storage types, the string attributes, and the
 // Rec.709 chromaticities when R, G and B are present. Deterministic: the same image gives the same
-// bytes (no timestamp unless a "DateTime" attribute is given). Atomic; throws sylva::Error("path: why").
+// bytes (no timestamp unless a "DateTime" attribute is given). Atomic; throws sylva::Error("path:
+// why").
 void write_exr(const std::filesystem::path& path, const Image& image);
 
-// Reads the first part of an EXR (any file OpenImageIO reads). UINT channels become PixelType::UInt,
-// HALF ones Half, everything else Float. Channel order is the file's as OpenImageIO reports it
-// (OpenEXR stores channels sorted by name; look channels up with find_channel). String header
-// attributes are returned except OpenImageIO's own ("compression", "oiio:*").
-// Throws sylva::Error("path: why") on missing or corrupt files.
+// Reads the first part of an EXR (any file OpenImageIO reads). UINT channels become
+// PixelType::UInt, HALF ones Half, everything else Float. Channel order is the file's as
+// OpenImageIO reports it (OpenEXR stores channels sorted by name; look channels up with
+// find_channel). String header attributes are returned except OpenImageIO's own ("compression",
+// "oiio:*"). Throws sylva::Error("path: why") on missing or corrupt files.
 Image read_exr(const std::filesystem::path& path);
 
 struct PreviewOptions {
-  float exposure_ev = 0.0f;  // scale linear values by 2^exposure_ev before the view transform
+  float exposure_ev = 0.0f;       // scale linear values by 2^exposure_ev before the view transform
   std::string view = "Standard";  // a view of the shipped config's "sRGB" display (color.h)
   // Linear Rec.709 scene-referred input; the same name 3x gives a grey band (e.g. "nir.Y").
   std::array<std::string, 3> channels{"R", "G", "B"};
@@ -78,12 +82,14 @@ struct PreviewOptions {
 std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions& options);
 
 // 8-bit sRGB PNG through an OCIO display transform of data/ocio/config.ocio. Atomic like write_exr.
-void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options);
+void write_png_preview(const std::filesystem::path& path, const Image& image,
+                       const PreviewOptions& options);
 
 // Writes a text file (e.g. an HTML report) atomically like write_exr.
 void write_text_file(const std::filesystem::path& path, std::string_view text);
 
 // Writes 8-bit RGB pixels (width*height*3, top row first) as a PNG. Atomic like write_exr.
-void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb);
+void write_png_rgb8(const std::filesystem::path& path, int width, int height,
+                    const std::vector<uint8_t>& rgb);
 
 }  // namespace sylva

@@ -10,29 +10,31 @@
 //   z = d / σ,  p = erfc(|z| / √2)  (two-sided),
 // rejected when p < α_pixel = 1 − (1 − α)^(1/n) (Šidák over the n z-tested pixel-channels).
 // Var(d): with both variances and both sample counts (header "sylva:spp") known, the per-sample
-// variances are pooled, s² = ((n_t−1)·n_t·var_t + (n_r−1)·n_r·var_r) / (n_t+n_r−2), σ² = s²(1/n_t+1/n_r)
-// (under H0 both images sample the same distribution; a low-spp test's own variance estimate is
-// far too noisy on its own — a sky pixel at 16 spp can underestimate it 100×). With both variances
-// but no spp: σ² = var_ref + var_test. With one side's variance and both spp: the other side's is
-// var_known · spp_known / spp_other; without spp it is taken as 0 (an exact reference). Zero variance: σ is floored at variance_rel_floor · max(|test|, |ref|),
-// so a noiseless pixel must match to ~1e-5 relative (float rounding passes, anything else rejects);
-// two exact zeros pass. Identical values always pass (also equal infinities); otherwise a non-finite
+// variances are pooled (under H0 both images sample the same distribution; a low-spp test's own
+// variance estimate is far too noisy alone: a sky pixel at 16 spp can underestimate it 100×):
+//   s² = ((n_t−1)·n_t·var_t + (n_r−1)·n_r·var_r) / (n_t + n_r − 2),  σ² = s²·(1/n_t + 1/n_r).
+// With both variances but no spp: σ² = var_ref + var_test. With one side's variance and both spp:
+// the other side's is var_known · spp_known / spp_other; without spp it is taken as 0 (an exact
+// reference). Zero variance: σ is floored at variance_rel_floor · max(|test|, |ref|), so a
+// noiseless pixel must match to ~1e-5 relative (float rounding passes, anything else rejects); two
+// exact zeros pass. Identical values always pass (also equal infinities); otherwise a non-finite
 // test or reference value rejects.
 //
-// Mean-bias test (on by default): per channel, D = Σ d over pixels, Var(D) = Σ σ², z_bias = D/√Var(D)
-// (pixels are independent estimates, so D is Gaussian by the CLT). It catches small shifts (a +3%
-// reflectance change) that no single low-spp pixel can. Two scales, each Šidák-corrected at
-// bias_alpha: the whole image (over channels) and bias_tile × bias_tile tiles (over tiles ×
-// channels), the latter for changes confined to part of the image. Pixels that reject on their own
-// are left out of these sums (the share counts them), so one firefly cannot fail a tile. A channel
-// failing either scale fails the comparison.
+// Mean-bias test (on by default): per channel, D = Σ d over pixels, Var(D) = Σ σ²,
+// z_bias = D / √Var(D) (pixels are independent estimates, so D is Gaussian by the CLT). It catches
+// small shifts (a +3% reflectance change) that no single low-spp pixel can. Two scales, each
+// Šidák-corrected at bias_alpha: the whole image (over channels) and bias_tile × bias_tile tiles
+// (over tiles × channels), the latter for changes confined to part of the image. Pixels that
+// reject on their own are left out of these sums (the share counts them), so one firefly cannot
+// fail a tile. A channel failing either scale fails the comparison.
 //
-// Channel modes: exact_channels must match exactly; channels with an absolute tolerance reject when
-// |d| > tol; UInt channels (ids) not listed in either match exactly; the rest are statistical (z-test, or the Cycles-style
-// threshold when fail_threshold is set). Shares: the z-test verdict uses rejecting pixel-channels /
-// tested pixel-channels ≤ max_reject_fraction. The Cycles-style fallback matches OpenImageIO idiff
-// as Blender's render tests run it (`idiff -fail T -failpercent P`): a pixel fails when any tested
-// channel has |d| > T; the image fails when failing pixels > P% of all pixels.
+// Channel modes: exact_channels must match exactly; channels with an absolute tolerance reject
+// when |d| > tol; UInt channels (ids) not listed in either match exactly; the rest are statistical
+// (z-test, or the Cycles-style threshold when fail_threshold is set). The z-test verdict uses the
+// share of rejecting pixel-channels among all tested ones ≤ max_reject_fraction. The Cycles-style
+// fallback matches OpenImageIO idiff as Blender's render tests run it (`idiff -fail T
+// -failpercent P`): a pixel fails when any tested channel has |d| > T; the image fails when
+// failing pixels > P% of all pixels.
 
 #include "core/image.h"
 
@@ -49,30 +51,32 @@ enum class ChannelTest : uint8_t { ZTest, Threshold, Exact, AbsTolerance };
 struct CompareOptions {
   double alpha = 0.01;                  // family-wise false-rejection rate of the per-pixel z-test
   double max_reject_fraction = 0.0025;  // pass when rejecting pixel-channels / tested ≤ this
-  std::vector<std::string> channels;    // empty: every non-var channel that can be tested (see compare_images)
+  std::vector<std::string> channels;    // empty: all that can be tested (compare_images)
   std::vector<std::string> exact_channels;                     // compared exactly (UInt always is)
   std::vector<std::pair<std::string, double>> abs_tolerances;  // channel → absolute tolerance
-  double variance_rel_floor = 1e-5;     // σ ≥ this · max(|test|, |ref|)
-  double bias_alpha = 1e-3;             // mean-bias test level (per scale, Šidák); 0 disables it
-  int bias_tile = 16;                   // tile size of the local mean-bias test; 0: whole image only
-  std::optional<double> fail_threshold; // Cycles-style fallback: |d| > T fails a pixel ...
-  double fail_percent = 0.0;            // ... and > P% failing pixels fail the image (idiff's default 0)
+  double variance_rel_floor = 1e-5;                            // σ ≥ this · max(|test|, |ref|)
+  double bias_alpha = 1e-3;  // mean-bias test level (per scale, Šidák); 0 disables it
+  int bias_tile = 16;        // tile size of the local mean-bias test; 0: whole image only
+  std::optional<double> fail_threshold;  // Cycles-style fallback: |d| > T fails a pixel ...
+  double fail_percent = 0.0;  // ... and > P% failing pixels fail the image (idiff's default 0)
 };
 
 struct ChannelReport {
   std::string name;
   ChannelTest test = ChannelTest::ZTest;
-  int64_t tested = 0;    // pixel-channels tested
-  int64_t rejected = 0;  // pixel-channels rejected
+  int64_t tested = 0;              // pixel-channels tested
+  int64_t rejected = 0;            // pixel-channels rejected
   double mean_rel_diff = 0.0;      // Σ(test − ref) / Σ|ref| (signed; +0.03 for a +3% shift)
   double mean_abs_rel_diff = 0.0;  // Σ|test − ref| / Σ|ref|
   double max_abs_diff = 0.0;
-  double bias_z = 0.0;             // mean-bias z (ZTest channels with the bias test on)
+  double bias_z = 0.0;  // mean-bias z (ZTest channels with the bias test on)
   bool bias_failed = false;
-  double tile_z = 0.0;             // the tile mean-bias z of largest magnitude ...
-  int tile_x = -1, tile_y = -1;    // ... and its tile's top-left pixel
+  double tile_z = 0.0;           // the tile mean-bias z of largest magnitude ...
+  int tile_x = -1, tile_y = -1;  // ... and its tile's top-left pixel
   bool tile_failed = false;
-  double reject_fraction() const { return tested > 0 ? static_cast<double>(rejected) / static_cast<double>(tested) : 0.0; }
+  double reject_fraction() const {
+    return tested > 0 ? static_cast<double>(rejected) / static_cast<double>(tested) : 0.0;
+  }
 };
 
 struct WorstPixel {
@@ -87,17 +91,17 @@ struct CompareResult {
   int width = 0, height = 0;
   std::vector<ChannelReport> channels;  // in test order
   std::vector<std::string> skipped;     // channels left out by default (no variance, no tolerance)
-  std::string variance_model;           // how the variance of the difference was formed, for the summary
-  bool threshold_mode = false;          // Cycles-style fallback used
-  int64_t tested = 0, rejected = 0;     // z-test / exact / tolerance pixel-channels
-  int64_t failing_pixels = 0;           // threshold mode: pixels with any failing channel
-  double reject_fraction = 0.0;         // the figure compared against the limit
-  double limit = 0.0;                   // max_reject_fraction, or fail_percent / 100
-  double alpha_pixel = 0.0;             // Šidák-corrected per-pixel-channel level
-  double z_critical = 0.0;              // |z| above which a pixel-channel rejects
+  std::string variance_model;   // how the variance of the difference was formed, for the summary
+  bool threshold_mode = false;  // Cycles-style fallback used
+  int64_t tested = 0, rejected = 0;  // z-test / exact / tolerance pixel-channels
+  int64_t failing_pixels = 0;        // threshold mode: pixels with any failing channel
+  double reject_fraction = 0.0;      // the figure compared against the limit
+  double limit = 0.0;                // max_reject_fraction, or fail_percent / 100
+  double alpha_pixel = 0.0;          // Šidák-corrected per-pixel-channel level
+  double z_critical = 0.0;           // |z| above which a pixel-channel rejects
   double bias_z_critical = 0.0;
   double tile_z_critical = 0.0;
-  int bias_tile = 0;                    // tile size used (0: no tile test)
+  int bias_tile = 0;  // tile size used (0: no tile test)
   WorstPixel worst;
   bool passed = false;
   // Per tested channel (same order as `channels`): error holds |z| (or |d|/tol, exact: 0/1) plus
@@ -106,12 +110,12 @@ struct CompareResult {
   Image pvalue;
 };
 
-// Compares `test` against `ref`. Variances come from var.* channels of the images themselves or from
-// the optional companion images (which take precedence). Default channel choice (options.channels
-// empty): every channel of ref except var.*, skipping statistical channels without any variance
-// unless the threshold fallback is on. Throws sylva::Error for unusable input: size mismatch,
-// channels missing from either image, a requested statistical channel without variance (and no
-// fallback), a companion of the wrong size.
+// Compares `test` against `ref`. Variances come from var.* channels of the images themselves or
+// from the optional companion images (which take precedence). Default channel choice
+// (options.channels empty): every channel of ref except var.*, skipping statistical channels
+// without any variance unless the threshold fallback is on. Throws sylva::Error for unusable input:
+// size mismatch, channels missing from either image, a requested statistical channel without
+// variance (and no fallback), a companion of the wrong size.
 CompareResult compare_images(const Image& test, const Image& ref, const CompareOptions& options,
                              const Image* test_var = nullptr, const Image* ref_var = nullptr);
 

@@ -5,13 +5,13 @@
 #include "core/error.h"
 #include "core/image.h"
 
-#include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 namespace sylva {
 namespace {
@@ -19,7 +19,9 @@ namespace {
 namespace fs = std::filesystem;
 
 // sRGB inverse EOTF (IEC 61966-2-1), the reference the Standard view must match.
-double srgb_encode(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
+double srgb_encode(double v) {
+  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+}
 
 std::vector<uint8_t> read_png(const fs::path& path, int& width, int& height) {
   auto in = OIIO::ImageInput::open(path.string());
@@ -49,9 +51,9 @@ TEST(Color, StandardViewIsTheSrgbEncoding) {
 TEST(Color, AcesViewToneMapsAndRawPassesThrough) {
   std::vector<float> aces{0.18f, 0.18f, 0.18f, 1.0f, 1.0f, 1.0f, 16.0f, 16.0f, 16.0f};
   apply_display_transform(aces.data(), 3, "ACES");
-  EXPECT_GT(aces[0], 0.25f);  // mid grey stays mid
-  EXPECT_LT(aces[0], 0.45f);  // ... but darker than the colorimetric encoding (the filmic toe)
-  EXPECT_LT(aces[3], 0.95f);  // diffuse white is below display white
+  EXPECT_GT(aces[0], 0.25f);    // mid grey stays mid
+  EXPECT_LT(aces[0], 0.45f);    // ... but darker than the colorimetric encoding (the filmic toe)
+  EXPECT_LT(aces[3], 0.95f);    // diffuse white is below display white
   EXPECT_GT(aces[6], aces[3]);  // highlights roll off monotonically ...
   EXPECT_LE(aces[6], 1.0001f);  // ... and never exceed display white
   std::vector<float> raw{0.18f, 4.0f, -1.0f};
@@ -70,8 +72,10 @@ TEST(Color, UnknownViewNamesTheAvailableOnes) {
 }
 
 TEST(Color, BrokenConfigIsReportedWithItsPath) {
-  const fs::path path = fs::temp_directory_path() / ("sylva_bad_ocio_" + std::to_string(::getpid()) + ".ocio");
-  std::ofstream(path) << "ocio_profile_version: 2.1\nroles: {scene_linear: nowhere}\ndisplays: {}\n";
+  const fs::path path =
+      fs::temp_directory_path() / ("sylva_bad_ocio_" + std::to_string(::getpid()) + ".ocio");
+  std::ofstream(path)
+      << "ocio_profile_version: 2.1\nroles: {scene_linear: nowhere}\ndisplays: {}\n";
   try {
     validate_ocio_config(path);
     FAIL() << "expected sylva::Error";

@@ -3,12 +3,12 @@
 #include "core/error.h"
 #include "core/image.h"
 
-#include <gtest/gtest.h>
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 namespace sylva {
 namespace {
@@ -44,7 +44,7 @@ Image sample_image() {
       image.at(x, y, 3) = static_cast<float>(x * y) / 7.0f;
       image.at(x, y, 4) = 3.0e4f;
       image.at(x, y, 5) = static_cast<float>((1 << 24) - 1 - x - 10 * y);  // large ids stay exact
-      image.at(x, y, 6) = 0.5f + 0.25f * static_cast<float>(x);             // exact in half
+      image.at(x, y, 6) = 0.5f + 0.25f * static_cast<float>(x);            // exact in half
     }
   image.attributes = {{"sylva:spp", "256"}, {"sylva:scene", "default, seed=7"}};
   return image;
@@ -80,10 +80,12 @@ TEST_F(ImageFiles, ExrRoundTripKeepsNamesTypesValuesAndHeader) {
   for (int c = 0; c < image.channel_count(); ++c) {
     const int bc = back.find_channel(image.channels[static_cast<size_t>(c)]);
     ASSERT_GE(bc, 0) << image.channels[static_cast<size_t>(c)];
-    EXPECT_EQ(back.types[static_cast<size_t>(bc)], image.types[static_cast<size_t>(c)]) << image.channels[static_cast<size_t>(c)];
+    EXPECT_EQ(back.types[static_cast<size_t>(bc)], image.types[static_cast<size_t>(c)])
+        << image.channels[static_cast<size_t>(c)];
     for (int y = 0; y < image.height; ++y)
       for (int x = 0; x < image.width; ++x)
-        EXPECT_EQ(back.at(x, y, bc), image.at(x, y, c)) << image.channels[static_cast<size_t>(c)] << " " << x << "," << y;
+        EXPECT_EQ(back.at(x, y, bc), image.at(x, y, c))
+            << image.channels[static_cast<size_t>(c)] << " " << x << "," << y;
   }
   EXPECT_EQ(back.attribute("sylva:spp"), "256");
   EXPECT_EQ(back.attribute("sylva:scene"), "default, seed=7");
@@ -206,7 +208,8 @@ TEST_F(ImageFiles, ReadErrorsAreClear) {
 
   // A truncated EXR: valid header, missing pixel data.
   Image image = make_image(64, 64, {"R", "G", "B"});
-  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<float>(i % 97) * 0.37f;
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    image.pixels[i] = static_cast<float>(i % 97) * 0.37f;
   const fs::path full = dir_ / "full.exr";
   write_exr(full, image);
   const fs::path cut = dir_ / "cut.exr";
