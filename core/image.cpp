@@ -179,16 +179,18 @@ Image read_exr(const std::filesystem::path& path) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
     throw Error(path.string() + ": not a 2D image with channels");
 
+  // The image is the display window; a smaller or offset data window (cropped renders from other
+  // tools) is placed inside it, the rest left 0.
   Image image;
-  image.width = spec.width;
-  image.height = spec.height;
+  const bool windowed = spec.full_width > 0 && spec.full_height > 0;
+  image.width = windowed ? spec.full_width : spec.width;
+  image.height = windowed ? spec.full_height : spec.height;
+  const int x0 = windowed ? spec.x - spec.full_x : 0, y0 = windowed ? spec.y - spec.full_y : 0;
   image.channels = spec.channelnames;
   for (int c = 0; c < spec.nchannels; ++c) {
+    // 32-bit unsigned channels are ids; 8/16-bit ones (PNG, TIFF) are normalised colour.
     const OIIO::TypeDesc f = spec.channelformat(c);
-    image.types.push_back(f.basetype == OIIO::TypeDesc::UINT32 ||
-                                  f.basetype == OIIO::TypeDesc::UINT16 ||
-                                  f.basetype == OIIO::TypeDesc::UINT8
-                              ? PixelType::UInt
+    image.types.push_back(f.basetype == OIIO::TypeDesc::UINT32 ? PixelType::UInt
                           : f.basetype == OIIO::TypeDesc::HALF ? PixelType::Half
                                                                : PixelType::Float);
   }
@@ -201,31 +203,32 @@ Image read_exr(const std::filesystem::path& path) {
     image.attributes.emplace_back(name, value);
   }
 
-  // Read each channel in its native type (integer channels must not be normalised).
-  const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  // Read each channel in its native type (32-bit ids must not be normalised).
+  const size_t data_count = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   const size_t nc = image.channels.size();
-  image.pixels.assign(pixel_count * nc, 0.0f);
+  image.pixels.assign(static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * nc,
+                      0.0f);
+  std::vector<float> plane(data_count);
+  std::vector<uint32_t> ids;
   for (size_t c = 0; c < nc; ++c) {
     const int ci = static_cast<int>(c);
     bool ok = false;
     if (image.types[c] == PixelType::UInt) {
-      std::vector<uint32_t> plane(pixel_count);
-      ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::UINT32, plane.data());
-      const OIIO::TypeDesc f = spec.channelformat(ci);
-      // Narrow unsigned channels come back scaled to the 32-bit range; undo that exactly.
-      const uint32_t scale = f.basetype == OIIO::TypeDesc::UINT8    ? 0x01010101u
-                             : f.basetype == OIIO::TypeDesc::UINT16 ? 0x00010001u
-                                                                    : 1u;
-      for (size_t p = 0; p < pixel_count; ++p)
-        image.pixels[p * nc + c] = static_cast<float>(plane[p] / scale);
+      ids.resize(data_count);
+      ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::UINT32, ids.data());
+      for (size_t p = 0; p < data_count; ++p) plane[p] = static_cast<float>(ids[p]);
     } else {
-      std::vector<float> plane(pixel_count);
       ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::FLOAT, plane.data());
-      for (size_t p = 0; p < pixel_count; ++p) image.pixels[p * nc + c] = plane[p];
     }
     if (!ok)
       throw Error(path.string() + ": cannot read channel " + image.channels[c] + ": " +
                   in->geterror());
+    for (int y = 0; y < spec.height; ++y)
+      for (int x = 0; x < spec.width; ++x)
+        if (x + x0 >= 0 && x + x0 < image.width && y + y0 >= 0 && y + y0 < image.height)
+          image.at(x + x0, y + y0, ci) =
+              plane[static_cast<size_t>(y) * static_cast<size_t>(spec.width) +
+                    static_cast<size_t>(x)];
   }
   return image;
 }

@@ -63,9 +63,10 @@ inline constexpr std::array<float, 8> rec709_chromaticities{0.64f, 0.33f, 0.30f,
 // why").
 void write_exr(const std::filesystem::path& path, const Image& image);
 
-// Reads the first part of an EXR (any file OpenImageIO reads). UINT channels become
-// PixelType::UInt, HALF ones Half, everything else Float. Channel order is the file's as
-// OpenImageIO reports it (OpenEXR stores channels sorted by name; look channels up with
+// Reads the first part of an EXR (any file OpenImageIO reads) as its display window (a cropped data
+// window is placed inside it, the rest 0). 32-bit unsigned channels become PixelType::UInt (exact),
+// HALF ones Half, everything else Float (8/16-bit files normalised to [0, 1]). Channel order is the
+// file's as OpenImageIO reports it (OpenEXR stores channels sorted by name; look channels up with
 // find_channel). String header attributes are returned except OpenImageIO's own ("compression",
 // "oiio:*"). Throws sylva::Error("path: why") on missing or corrupt files.
 Image read_exr(const std::filesystem::path& path);

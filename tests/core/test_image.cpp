@@ -124,6 +124,41 @@ TEST_F(ImageFiles, SameImageGivesIdenticalBytes) {
   EXPECT_EQ(read_exr(dir_ / "c.exr").attribute("DateTime"), "2026:01:02 03:04:05");
 }
 
+TEST_F(ImageFiles, CroppedDataWindowIsPlacedInTheDisplayWindow) {
+  // As other renderers write an auto-cropped EXR: 2×1 data window at (3, 2) of a 6×4 display.
+  OIIO::ImageSpec spec(2, 1, 1, OIIO::TypeDesc::FLOAT);
+  spec.x = 3;
+  spec.y = 2;
+  spec.full_x = 0;
+  spec.full_y = 0;
+  spec.full_width = 6;
+  spec.full_height = 4;
+  spec.channelnames = {"Y"};
+  const float data[2] = {5.0f, 7.0f};
+  const fs::path path = dir_ / "crop.exr";
+  auto out = OIIO::ImageOutput::create("openexr");
+  ASSERT_TRUE(out && out->open(path.string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, data));
+  ASSERT_TRUE(out->close());
+  const Image image = read_exr(path);
+  ASSERT_EQ(image.width, 6);
+  ASSERT_EQ(image.height, 4);
+  float sum = 0.0f;
+  for (float v : image.pixels) sum += v;
+  EXPECT_EQ(sum, 12.0f);
+  EXPECT_EQ(image.at(3, 2, 0), 5.0f);
+  EXPECT_EQ(image.at(4, 2, 0), 7.0f);
+}
+
+TEST_F(ImageFiles, EightBitFilesAreNormalisedColour) {
+  write_png_rgb8(dir_ / "c.png", 2, 1, {0, 51, 255, 255, 0, 0});
+  const Image image = read_exr(dir_ / "c.png");
+  ASSERT_EQ(image.channel_count(), 3);
+  EXPECT_EQ(image.types[0], PixelType::Float);
+  EXPECT_FLOAT_EQ(image.at(0, 0, 1), 0.2f);
+  EXPECT_FLOAT_EQ(image.at(0, 0, 2), 1.0f);
+}
+
 TEST_F(ImageFiles, NoChromaticitiesWithoutRgb) {
   Image image = make_image(2, 2, {"nir.Y"});
   write_exr(dir_ / "nir.exr", image);
