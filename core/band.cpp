@@ -39,6 +39,19 @@ constexpr CameraBand kCameraBands[] = {
 };
 constexpr const char* kCameraFile = "srf/helios_camera_nir_srf.csv";
 
+// Landsat 8/9 OLI band numbers → the SRF table's column names.
+constexpr std::pair<const char*, const char*> kLandsatBands[] = {
+    {"B1", "CoastalAerosol"}, {"B2", "Blue"}, {"B3", "Green"}, {"B4", "Red"}, {"B5", "NIR"},
+    {"B6", "SWIR1"},          {"B7", "SWIR2"}, {"B8", "Pan"},   {"B9", "Cirrus"},
+};
+
+std::string srf_column(const std::string& prefix, const std::string& band) {
+  if (prefix == "L8_" || prefix == "L9_")
+    for (const auto& [number, column] : kLandsatBands)
+      if (band == number) return column;
+  return band;
+}
+
 }  // namespace
 
 Band make_rgb_band() {
@@ -60,8 +73,11 @@ Band make_rgb_band() {
   return b;
 }
 
-Band make_srf_band(const std::string& name, const DenseSpectrum& response) {
-  if (response.min_value() < 0) throw Error("band " + name + ": negative spectral response");
+Band make_srf_band(const std::string& name, const DenseSpectrum& response_in) {
+  // Measured responses carry small negative noise floors (e.g. Landsat OLI's RSR tables); a
+  // response cannot be negative, so those values are set to zero.
+  DenseSpectrum response = response_in;
+  for (int i = 0; i < kLambdaSamples; ++i) response[i] = std::max(0.0f, response[i]);
   Band b;
   b.name = name;
   b.channels = {name + ".Y"};
@@ -79,7 +95,11 @@ std::vector<std::string> known_band_names() {
   for (const auto& c : kCameraBands) names.emplace_back(c.name);
   for (const auto& s : kSatellites) {
     const Table t = read_table(data_file(s.file));
-    for (size_t c = 1; c < t.header.size(); ++c) names.push_back(s.prefix + t.header[c]);
+    if (std::string(s.prefix)[0] == 'L') {
+      for (const auto& [number, column] : kLandsatBands) names.push_back(s.prefix + std::string(number));
+    } else {
+      for (size_t c = 1; c < t.header.size(); ++c) names.push_back(s.prefix + t.header[c]);
+    }
   }
   return names;
 }
@@ -92,7 +112,7 @@ Band resolve_band(const std::string& name) {
     const std::string prefix = s.prefix;
     if (name.rfind(prefix, 0) == 0) {
       const Table t = read_table(data_file(s.file));
-      const std::string column = name.substr(prefix.size());
+      const std::string column = srf_column(prefix, name.substr(prefix.size()));
       for (size_t c = 1; c < t.header.size(); ++c)
         if (t.header[c] == column)
           return make_srf_band(name, DenseSpectrum::from_samples(t.columns[0], t.columns[c], Extrapolate::Zero));

@@ -29,7 +29,8 @@ Band make_srf_band(const std::string& name, const DenseSpectrum& response);
 
 // Resolves a band name: "rgb"; "nir" (a silicon camera behind an 850 nm long-pass filter, Basler
 // acA2500-20gm, data/srf/helios_camera_nir_srf.csv); "red_edge" (the same camera, 730 nm filter);
-// Sentinel-2 "S2A_B1".."S2A_B12", "S2B_…"; Landsat "L8_B1".., "L9_…". Throws sylva::Error listing
+// Sentinel-2 "S2A_B2".."S2A_B12" and "S2B_…" (B2–B8A, B11, B12: the bands the shipped table has);
+// Landsat OLI "L8_B1".."L8_B9", "L9_…". Throws sylva::Error listing
 // the known names otherwise.
 Band resolve_band(const std::string& name);
 // A user band: column `column` of the table `file` (first column wavelength in nm).

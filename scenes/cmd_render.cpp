@@ -72,6 +72,10 @@ float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& cha
 }
 
 int run_render(const RenderOptions& opt) {
+  // From here on SIGINT/SIGTERM stop the render cleanly (a checkpoint is written).
+  g_interrupted = false;
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
   SceneFile file = opt.scene.empty() ? default_scene() : load_scene_file(opt.scene);
   RenderSettings settings;
   settings.width = file.render.width;
@@ -115,9 +119,6 @@ int run_render(const RenderOptions& opt) {
   if (opt.resume && !opt.quiet) fmt::print(stderr, "resuming from {} ({} samples)\n", checkpoint.string(), film.total_samples());
 
   // Render in rounds: stop for a periodic checkpoint, or for good on SIGINT/SIGTERM.
-  g_interrupted = false;
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
   RenderStats total;
   while (true) {
     stop = false;

@@ -1,0 +1,135 @@
+// `sylva render` end to end: outputs and their header, errors without partial output,
+// determinism across --threads, and SIGINT → checkpoint → --resume equal to an uninterrupted run.
+
+#include "core/image.h"
+#include "tests/support/run_command.h"
+
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fresh_dir;
+using test::read_text;
+using test::run_sylva;
+
+TEST(CliRender, DefaultSceneWritesExrAndPng) {
+  const fs::path dir = fresh_dir("cli_default");
+  const auto r = run_sylva("render -o '" + (dir / "out.exr").string() + "' --png '" + (dir / "out.png").string() +
+                               "' --res 48x27 --spp 4 --quiet",
+                           dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;  // --quiet
+  ASSERT_TRUE(fs::exists(dir / "out.png"));
+  const Image img = read_exr(dir / "out.exr");
+  EXPECT_EQ(img.width, 48);
+  EXPECT_EQ(img.height, 27);
+  for (const char* c : {"R", "G", "B", "nir.Y", "var.R", "var.nir.Y", "albedo.G", "albedo.nir.Y", "Z", "N.X", "N.Y",
+                        "N.Z", "id.instance", "id.object"})
+    EXPECT_GE(img.find_channel(c), 0) << c;
+  EXPECT_EQ(img.types[img.find_channel("id.instance")], PixelType::UInt);
+  EXPECT_EQ(img.attribute("sylva:spp"), "4");
+  EXPECT_EQ(img.attribute("sylva:seed"), "1");
+  EXPECT_EQ(img.attribute("sylva:bands"), "rgb,nir");
+  EXPECT_FALSE(img.attribute("sylva:scene_hash").empty());
+  // No temporary or checkpoint files are left behind.
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    EXPECT_TRUE(name == "out.exr" || name == "out.png" || name.ends_with(".txt")) << name;
+  }
+  // Radiometric sanity: sky and ground are lit, nothing is negative or NaN in the band channels.
+  const int g = img.find_channel("G"), n = img.find_channel("nir.Y");
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      ASSERT_TRUE(std::isfinite(img.at(x, y, g)));
+      ASSERT_GE(img.at(x, y, n), 0.0f);
+    }
+}
+
+TEST(CliRender, BadSceneFailsWithFileLineAndNoOutput) {
+  const fs::path dir = fresh_dir("cli_bad");
+  {
+    std::ofstream f(dir / "bad.toml");
+    f << "[camera]\nposition = [0, -5, 1]\n\n[sun]\nelevation = \"high\"\n";
+  }
+  const auto r = run_sylva("render '" + (dir / "bad.toml").string() + "' -o '" + (dir / "out.exr").string() + "'", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.toml:5: 'elevation' must be a number"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.exr"));
+  const auto missing = run_sylva("render '" + (dir / "nope.toml").string() + "' -o '" + (dir / "o.exr").string() + "'", dir);
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("nope.toml:0: cannot open scene file"), std::string::npos) << missing.err;
+  const auto bad_res = run_sylva("render -o '" + (dir / "o.exr").string() + "' --res 12by4", dir);
+  EXPECT_EQ(bad_res.exit_code, 2);
+  EXPECT_NE(bad_res.err.find("--res"), std::string::npos);
+  const auto bad_band = run_sylva("render -o '" + (dir / "o.exr").string() + "' --bands rgb,xray --res 8x8", dir);
+  EXPECT_EQ(bad_band.exit_code, 2);
+  EXPECT_NE(bad_band.err.find("unknown band 'xray'"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "o.exr"));
+}
+
+TEST(CliRender, BitIdenticalFilesAtAnyThreadCount) {
+  const fs::path dir = fresh_dir("cli_threads");
+  const std::string common = " --res 40x24 --spp 3 --quiet --bands rgb,nir,S2A_B8";
+  ASSERT_EQ(run_sylva("render -o '" + (dir / "t1.exr").string() + "' --threads 1" + common, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render -o '" + (dir / "t2.exr").string() + "' --threads 2" + common, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render -o '" + (dir / "t3.exr").string() + "' --threads 3" + common, dir).exit_code, 0);
+  EXPECT_EQ(read_text(dir / "t1.exr"), read_text(dir / "t2.exr"));
+  EXPECT_EQ(read_text(dir / "t1.exr"), read_text(dir / "t3.exr"));
+  // A different seed gives a different image.
+  ASSERT_EQ(run_sylva("render -o '" + (dir / "s2.exr").string() + "' --seed 2" + common, dir).exit_code, 0);
+  EXPECT_NE(read_text(dir / "t1.exr"), read_text(dir / "s2.exr"));
+}
+
+TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
+  const fs::path dir = fresh_dir("cli_resume");
+  const std::string common = " --res 160x90 --spp 160 --quiet --threads 2";
+  const fs::path out = dir / "int.exr", log = dir / "child.txt";
+  // Start a render and interrupt it with SIGINT once it reports that rendering is under way.
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string cmd = std::string(SYLVA_BINARY) + " render -o '" + out.string() + "' --res 160x90 --spp 160 --threads 2";
+    ::execl("/bin/sh", "sh", "-c", ("exec " + cmd + " 2>'" + log.string() + "'").c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  for (int i = 0; i < 600 && read_text(log).find("scene:") == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 130) << "the render must still be running 300 ms in; " << read_text(log);
+  EXPECT_NE(read_text(log).find("interrupted: checkpoint with"), std::string::npos) << read_text(log);
+  EXPECT_FALSE(fs::exists(out)) << "no output from an interrupted render";
+  ASSERT_TRUE(fs::exists(out.string() + ".checkpoint"));
+  const auto resumed = run_sylva("render -o '" + out.string() + "' --resume" + common, dir);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_FALSE(fs::exists(out.string() + ".checkpoint"));
+  ASSERT_EQ(run_sylva("render -o '" + (dir / "full.exr").string() + "'" + common, dir).exit_code, 0);
+  EXPECT_EQ(read_text(out), read_text(dir / "full.exr"));
+  // Resuming a different render is refused.
+  ASSERT_EQ(run_sylva("render -o '" + out.string() + "'" + common + " --checkpoint-minutes 0", dir).exit_code, 0);
+  const auto wrong = run_sylva("render -o '" + (dir / "none.exr").string() + "' --resume" + common, dir);
+  EXPECT_EQ(wrong.exit_code, 2);
+  EXPECT_NE(wrong.err.find("no checkpoint"), std::string::npos) << wrong.err;
+}
+
+TEST(CliRender, HelpListsTheOptions) {
+  const fs::path dir = fresh_dir("cli_help");
+  const auto r = run_sylva("render --help", dir);
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* opt : {"--spp", "--res", "--threads", "--seed", "--bands", "--png", "--resume"})
+    EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+}
+
+}  // namespace
+}  // namespace sylva

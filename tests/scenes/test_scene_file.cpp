@@ -1,0 +1,137 @@
+// Scene files: the default scene, trees, and a clear `file:line: message` for every mistake.
+
+#include "core/error.h"
+#include "scenes/scene_file.h"
+
+#include <gtest/gtest.h>
+
+namespace sylva {
+namespace {
+
+const std::string kHeader = R"(
+[materials.grey]
+type = "diffuse"
+reflectance = 0.5
+)";
+
+// Parses `text` and returns the error message ("" if it parsed).
+std::string error_of(const std::string& text) {
+  try {
+    parse_scene(text, "scene.toml", SYLVA_SOURCE_DIR "/scenes/examples");
+  } catch (const ParseError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneFile, DefaultSceneParses) {
+  const SceneFile f = default_scene();
+  EXPECT_GE(f.scene.prototypes.size(), 5u);
+  EXPECT_GE(f.scene.instances.size(), 8u);
+  EXPECT_EQ(f.render.bands, (std::vector<std::string>{"rgb", "nir"}));
+  EXPECT_EQ(f.content_hash.size(), 16u);
+  const auto bands = resolve_bands(f, f.render.bands);
+  EXPECT_EQ(bands.size(), 2u);
+}
+
+TEST(SceneFile, ExampleScenesParse) {
+  for (const char* name : {"default.toml", "aspen_grove.toml"}) {
+    EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/scenes/examples/" + name)) << name;
+  }
+}
+
+TEST(SceneFile, TreesShareOnePrototypePerSpeciesAndSeed) {
+  const std::string text = kHeader + R"(
+[[trees]]
+species = "../species/quaking_aspen.toml"
+seed = 3
+bark = "grey"
+leaf = "grey"
+instances = [{ translate = [0, 0, 0] }, { translate = [5, 0, 0], object_id = 4 }]
+
+[[trees]]
+species = "../species/quaking_aspen.toml"
+seed = 3
+bark = "grey"
+leaf = "grey"
+translate = [10, 0, 0]
+)";
+  const SceneFile f = parse_scene(text, "trees.toml", SYLVA_SOURCE_DIR "/scenes/examples");
+  ASSERT_EQ(f.scene.prototypes.size(), 1u);
+  EXPECT_EQ(f.scene.instances.size(), 3u);
+  EXPECT_EQ(f.scene.instances[1].object_id, 4u);
+  EXPECT_GT(f.scene.prototypes[0].leaves.size(), 100u);
+  EXPECT_GT(f.scene.prototypes[0].triangles.triangles.size(), 100u);
+}
+
+struct BadCase {
+  const char* text;
+  const char* expected;  // substring of the message, including "scene.toml:<line>:"
+};
+
+TEST(SceneFile, EveryMistakeNamesFileAndLine) {
+  const BadCase cases[] = {
+      {"[camera\nposition = [0, 0, 0]", "scene.toml:1:"},
+      {"[camera]\nposition = [0, 0, 1]\nfov = 40\n", "scene.toml:3: unknown key 'fov' in [camera]"},
+      {"[camera]\nposition = [0, 0]\n", "scene.toml:2: 'position' must be an array of 3 numbers"},
+      {"[camera]\nposition = [1, 2, 3]\ntarget = [1, 2, 3]\n", "scene.toml:1: camera position and target must differ"},
+      {"[camera]\nvfov = 200\n", "scene.toml:2: 'vfov' must lie in"},
+      {"[render]\nspp = 0\n", "scene.toml:2: 'spp' must lie in"},
+      {"[render]\nwidth = \"wide\"\n", "scene.toml:2: 'width' must be an integer"},
+      {"[sky]\nmodel = \"perez\"\n", "scene.toml:2: sky model must be"},
+      {"[sun]\nirradiance = \"moonlight\"\n", "scene.toml:2: unknown spectrum 'moonlight'"},
+      {"[materials.a]\ntype = \"metal\"\n", "scene.toml:1: material type must be"},
+      {"[materials.a]\ntype = \"diffuse\"\nreflectance = { file = \"nope.csv\", column = \"x\" }\n",
+       "scene.toml:3: file not found: nope.csv"},
+      {"[materials.a]\ntype = \"diffuse\"\nreflectance = { file = \"cie1931_2deg_cmf_1nm.csv\", column = \"wbar\" }\n",
+       "no column 'wbar'"},
+      {"[materials.a]\ntype = \"diffuse\"\nreflectance = { lambda_nm = [500, 400], value = [0.1, 0.2] }\n",
+       "scene.toml:3: lambda_nm must increase strictly"},
+      {"[materials.a]\ntype = \"leaf\"\nreflectance = 0.6\ntransmittance = 0.5\n",
+       "scene.toml:1: material 'a': reflectance + transmittance = 1.1000 > 1"},
+      {"[materials.a]\ntype = \"diffuse\"\nreflectance = 1.5\n", "scene.toml:1: material 'a': reflectance must lie in [0, 1]"},
+      {"[[meshes]]\nshape = \"plane\"\nmaterial = \"missing\"\n", "scene.toml:3: unknown material 'missing'"},
+      {"[materials.a]\nreflectance = 0.5\n[[meshes]]\nshape = \"torus\"\nmaterial = \"a\"\n",
+       "scene.toml:4: shape must be plane, box, sphere, cylinder or leaf_cloud"},
+      {"[materials.a]\nreflectance = 0.5\n[[meshes]]\nfile = \"missing.obj\"\nmaterial = \"a\"\n",
+       "scene.toml:4: file not found: missing.obj"},
+      {"[materials.a]\nreflectance = 0.5\n[[meshes]]\nshape = \"box\"\nmaterial = \"a\"\nscale = -1\n",
+       "scene.toml:6: scale must be positive"},
+      {"[materials.a]\nreflectance = 0.5\n[[trees]]\nspecies = \"../species/quaking_aspen.toml\"\nbark = \"a\"\n",
+       "scene.toml:3: missing key 'leaf'"},
+      {"[[bands]]\nname = \"my.band\"\nresponse = 1\n", "scene.toml:2: band name must be"},
+      {"meshes = 3\n", "scene.toml:1: 'meshes' must be an array"},
+      {"colour = 1\n", "scene.toml:1: unknown key 'colour' in the scene"},
+  };
+  for (const BadCase& c : cases) {
+    const std::string msg = error_of(c.text);
+    EXPECT_NE(msg.find(c.expected), std::string::npos) << "input:\n" << c.text << "\nmessage: " << msg;
+  }
+}
+
+TEST(SceneFile, CustomBandsResolveBeforeBuiltIns) {
+  const SceneFile f = parse_scene(R"(
+[render]
+bands = ["rgb", "swir_cam"]
+[[bands]]
+name = "swir_cam"
+response = { lambda_nm = [1400, 1500, 1600, 1700], value = [0, 1, 1, 0] }
+)",
+                                  "bands.toml", ".");
+  const auto bands = resolve_bands(f, f.render.bands);
+  ASSERT_EQ(bands.size(), 2u);
+  EXPECT_EQ(bands[1].channels[0], "swir_cam.Y");
+  EXPECT_NEAR(bands[1].weights[0].integral(), 1.0, 1e-3);
+  EXPECT_THROW(resolve_bands(f, {"no_such_band"}), Error);
+  EXPECT_THROW(resolve_bands(f, {"rgb", "rgb"}), Error);
+}
+
+TEST(SceneFile, SentinelAndLandsatBandsAreData) {
+  const SceneFile f = default_scene();
+  const auto bands = resolve_bands(f, {"S2A_B8", "L8_B5", "red_edge"});
+  EXPECT_EQ(bands[0].channels[0], "S2A_B8.Y");
+  EXPECT_EQ(bands[1].channels[0], "L8_B5.Y");
+}
+
+}  // namespace
+}  // namespace sylva
