@@ -39,6 +39,12 @@ Vec3 rotate_vector(const Vec3& v, const Vec3& k, float a) {
 Frame rotate_axis(const Frame& f, const Vec3& k, float a) {
   return Frame{rotate_vector(f.x, k, a), rotate_vector(f.y, k, a), rotate_vector(f.z, k, a)};
 }
+// Rotation of a frame about the tree's vertical axis.
+Frame rotate_about_vertical(const Frame& f, float a) {
+  const float c = std::cos(a), s = std::sin(a);
+  auto r = [&](const Vec3& v) { return Vec3(c * v.x - s * v.y, s * v.x + c * v.y, v.z); };
+  return Frame{r(f.x), r(f.y), r(f.z)};
+}
 Frame orthonormalized(const Frame& f) {
   const Vec3 z = glm::normalize(f.z);
   Vec3 x = f.x - z * glm::dot(f.x, z);
@@ -46,11 +52,6 @@ Frame orthonormalized(const Frame& f) {
   if (lx < 1e-6f) return Frame::from_z(z);
   x /= lx;
   return Frame{x, glm::cross(z, x), z};
-}
-float wrap_pi(float a) {
-  a = std::fmod(a + kPi, kTwoPi);
-  if (a < 0.0f) a += kTwoPi;
-  return a - kPi;
 }
 
 // A stem (or a clone) ready to be formed from segment `segment` on.
@@ -510,7 +511,6 @@ class Builder {
       if (lp.rotate < 0.0f) s.leaf_alternate = -s.leaf_alternate;
       f = rotate_x(rotate_z(parent_frame, radians(s.leaf_rotate_deg)), radians(down));
     }
-    f = orthonormalized(f);
     // §4.5 leaf size: LeafScale/√quality by LeafScale·LeafScaleX/√quality.
     const float q = std::sqrt(std::max(1e-6f, p_.quality * p_.leaf_quality));
     const float length = p_.leaf_scale / q;
@@ -541,18 +541,20 @@ class Builder {
   void bend_leaf(Frame& f, const Vec3& pos) const {
     const float bend = p_.leaf_bend;
     if (bend == 0.0f) return;
-    const Vec3 up{0.0f, 0.0f, 1.0f};
+    // theta_bend = theta_position − atan2(n_y, n_x), as one wrapped atan2 of the 2-D vectors.
     Vec3 normal = f.y;
-    if (pos.x != 0.0f || pos.y != 0.0f) {
-      const float theta_position = std::atan2(pos.y, pos.x);
-      const float theta_bend = wrap_pi(theta_position - std::atan2(normal.y, normal.x));
-      f = rotate_axis(f, up, bend * theta_bend);
+    const float cross_z = normal.x * pos.y - normal.y * pos.x;
+    const float dot_xy = normal.x * pos.x + normal.y * pos.y;
+    if (cross_z != 0.0f || dot_xy != 0.0f) {
+      f = rotate_about_vertical(f, bend * std::atan2(cross_z, dot_xy));
       normal = f.y;
     }
-    const float phi_bend = std::atan2(std::sqrt(normal.x * normal.x + normal.y * normal.y), normal.z);
-    const Vec3 axis = glm::cross(normal, up);
-    const float axis_len = glm::length(axis);
-    if (axis_len > 1e-6f) f = orthonormalized(rotate_axis(f, axis / axis_len, bend * phi_bend));
+    // phi_bend = atan2(sqrt(n_x² + n_y²), n_z), turned about the horizontal axis n × Z.
+    const float horizontal = std::sqrt(normal.x * normal.x + normal.y * normal.y);
+    if (horizontal > 1e-6f) {
+      const Vec3 axis{normal.y / horizontal, -normal.x / horizontal, 0.0f};
+      f = rotate_axis(f, axis, bend * std::atan2(horizontal, normal.z));
+    }
   }
 
   void emit(const Vec3& pos, const Frame& f, float radius, float arc) {

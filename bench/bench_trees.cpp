@@ -1,0 +1,50 @@
+// Weber–Penn generation + meshing, single-threaded (issue 3 targets: Quaking Aspen ≤ 60 ms,
+// Weeping Willow ≤ 300 ms; Arbaro needs ~590 ms and ~2,580 ms).
+
+#include "geometry/tree_mesher.h"
+#include "scenes/species.h"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+namespace {
+
+// The species files next to this source (CMake passes sources by absolute path).
+const std::filesystem::path kSpeciesDir =
+    std::filesystem::path(__FILE__).parent_path().parent_path() / "scenes" / "species";
+
+void bench_species(benchmark::State& state, const char* file) {
+  const sylva::Species species = sylva::load_species(kSpeciesDir / file);
+  uint64_t seed = 1;
+  size_t triangles = 0, leaves = 0;
+  for (auto _ : state) {
+    const sylva::TreeMesh mesh = sylva::make_species_mesh(species, seed);
+    triangles = mesh.stems.triangles.size();
+    leaves = mesh.leaves.size();
+    benchmark::DoNotOptimize(mesh.stems.positions.data());
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["leaves"] = static_cast<double>(leaves);
+}
+
+void BM_QuakingAspen(benchmark::State& state) { bench_species(state, "quaking_aspen.toml"); }
+void BM_BlackTupelo(benchmark::State& state) { bench_species(state, "black_tupelo.toml"); }
+void BM_WeepingWillow(benchmark::State& state) { bench_species(state, "weeping_willow.toml"); }
+void BM_CaliforniaBlackOak(benchmark::State& state) { bench_species(state, "california_black_oak.toml"); }
+
+void BM_WeepingWillowGenerateOnly(benchmark::State& state) {
+  const sylva::Species species = sylva::load_species(kSpeciesDir / "weeping_willow.toml");
+  for (auto _ : state) {
+    const sylva::TreeModel model = sylva::make_species_model(species, 1);
+    benchmark::DoNotOptimize(model.sections.positions.data());
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_QuakingAspen)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BlackTupelo)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WeepingWillow)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CaliforniaBlackOak)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WeepingWillowGenerateOnly)->Unit(benchmark::kMillisecond);
