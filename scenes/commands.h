@@ -14,5 +14,6 @@ using CommandRun = std::function<int()>;
 CommandRun add_render_command(CLI::App& parent);
 CommandRun add_compare_command(CLI::App& parent);
 CommandRun add_tree_command(CLI::App& parent);
+CommandRun add_export_command(CLI::App& parent);
 
 }  // namespace sylva
