@@ -1,5 +1,6 @@
 #include "core/compare_report.h"
 
+#include "core/color.h"
 #include "core/error.h"
 
 #include <fmt/core.h>
@@ -133,6 +134,11 @@ std::string format_share(double share) { return fmt::format("{:.4g}%", 100.0 * s
 
 void write_compare_report(const std::filesystem::path& dir, const Image& test, const Image& ref,
                           const CompareResult& result, const ReportOptions& options) {
+  const std::vector<std::string> views = ocio_views();
+  if (std::find(views.begin(), views.end(), options.view) == views.end()) {
+    float probe[3] = {0.0f, 0.0f, 0.0f};
+    apply_display_transform(probe, 1, options.view);  // throws, naming the available views
+  }
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
@@ -184,6 +190,7 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
     }
     PreviewOptions preview;
     preview.view = options.view;
+    preview.exposure_ev = item.radiometric ? options.exposure_ev : 0.0f;
     write_png_preview(dir / (item.slug + "_test.png"), t3, preview);
     const std::vector<uint8_t> ref_rgb = make_preview_rgb8(r3, preview);
     write_png_rgb8(dir / (item.slug + "_ref.png"), ref.width, ref.height, ref_rgb);

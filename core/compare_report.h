@@ -9,7 +9,8 @@
 //                              previews per channel group (rgb, nir, albedo, N, Z, ...): test,
 //                              reference, |test − ref| × diff_scale, rejecting pixels in red
 //   index.html                 verdict, figures, channels and groups with failures listed first
-// Creates DIR if needed; throws sylva::Error("path: why").
+// Creates DIR if needed; throws sylva::Error("path: why") (an unknown view before writing
+// anything).
 
 #include "core/image.h"
 #include "core/image_compare.h"
@@ -21,7 +22,8 @@ namespace sylva {
 
 struct ReportOptions {
   float diff_scale = 16.0f;  // k in |diff|×k (Blender's render tests use idiff -abs -scale 16)
-  std::string view = "Standard";                             // OCIO view of the previews (color.h)
+  std::string view = "Standard";  // OCIO view of the previews (color.h)
+  float exposure_ev = 0.0f;       // exposure of the radiometric previews (test, reference, |diff|)
   std::string test_label = "test", ref_label = "reference";  // shown in the HTML (e.g. file paths)
   std::string command;  // the command line, shown in the HTML when set
 };

@@ -55,6 +55,7 @@ struct CompareArgs {
   int bias_tile = 16;
   float diff_scale = 16.0f;
   std::string view = "Standard";
+  float exposure_ev = 0.0f;
 };
 
 int run_compare(const CompareArgs& a) {
@@ -82,6 +83,7 @@ int run_compare(const CompareArgs& a) {
     ReportOptions report;
     report.diff_scale = a.diff_scale;
     report.view = a.view;
+    report.exposure_ev = a.exposure_ev;
     report.test_label = a.test;
     report.ref_label = a.ref;
     write_compare_report(a.report, test, ref, result, report);
@@ -141,6 +143,8 @@ CommandRun add_compare_command(CLI::App& parent) {
   cmd->add_option("--report", args->report,
                   "Write test/ref/error/pvalue EXRs, PNG previews and index.html here");
   cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")
+      ->capture_default_str();
+  cmd->add_option("--exposure", args->exposure_ev, "Exposure of the report's previews in stops")
       ->capture_default_str();
   cmd->add_option("--view", args->view, "OCIO view of the report's previews (Standard, ACES, Raw)")
       ->capture_default_str();

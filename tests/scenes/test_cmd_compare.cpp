@@ -186,6 +186,14 @@ TEST_F(CompareCommand, ReportDirectory) {
   const std::string html = slurp(report / "index.html");
   EXPECT_NE(html.find("id=\"verdict\">FAIL"), std::string::npos);
   EXPECT_NE(html.find("bright.exr"), std::string::npos);
+
+  // An unknown view is refused before anything is written.
+  const fs::path nowhere = dir_ / "report2";
+  const CommandResult view = run(path("bright.exr") + " " + path("ref.exr") +
+                                 " --view Filmic --report '" + nowhere.string() + "'");
+  EXPECT_EQ(view.exit_code, 2);
+  EXPECT_NE(view.err.find("Standard, ACES, Raw"), std::string::npos) << view.err;
+  EXPECT_FALSE(fs::exists(nowhere));
 }
 
 }  // namespace
