@@ -78,14 +78,22 @@ bool inside_leaflets3(float u, float v) {
 
 bool leaf_shape_inside(LeafShape shape, float u, float v) {
   switch (shape) {
-    case LeafShape::Rectangle: return true;
-    case LeafShape::Oval: return inside_ellipse(u, v, 0.5f, 0.5f, 0.5f, 0.5f);
-    case LeafShape::Triangle: return std::abs(u - 0.5f) <= 0.5f * (1.0f - v);
-    case LeafShape::Oak3: return inside_oak3(u, v);
-    case LeafShape::Maple3: return inside_maple3(u, v);
-    case LeafShape::Maple5: return inside_maple5(u, v);
-    case LeafShape::Leaflets3: return inside_leaflets3(u, v);
-    case LeafShape::Count: break;
+    case LeafShape::Rectangle:
+      return true;
+    case LeafShape::Oval:
+      return inside_ellipse(u, v, 0.5f, 0.5f, 0.5f, 0.5f);
+    case LeafShape::Triangle:
+      return std::abs(u - 0.5f) <= 0.5f * (1.0f - v);
+    case LeafShape::Oak3:
+      return inside_oak3(u, v);
+    case LeafShape::Maple3:
+      return inside_maple3(u, v);
+    case LeafShape::Maple5:
+      return inside_maple5(u, v);
+    case LeafShape::Leaflets3:
+      return inside_leaflets3(u, v);
+    case LeafShape::Count:
+      break;
   }
   return false;
 }

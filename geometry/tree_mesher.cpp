@@ -63,7 +63,8 @@ TreeMesh make_tree_mesh(const TreeModel& model, const TreeMeshOptions& options) 
       const float theta = kTwoPi * static_cast<float>(j % m) / static_cast<float>(m);
       trig.cos_t[static_cast<size_t>(j)] = std::cos(theta);
       trig.sin_t[static_cast<size_t>(j)] = std::sin(theta);
-      trig.lobe[static_cast<size_t>(j)] = lobes > 0 ? 1.0f + lobe_depth * std::sin(static_cast<float>(lobes) * theta) : 1.0f;
+      trig.lobe[static_cast<size_t>(j)] =
+          lobes > 0 ? 1.0f + lobe_depth * std::sin(static_cast<float>(lobes) * theta) : 1.0f;
     }
     const float v_scale = 1.0f / (kTwoPi * std::max(stems.base_radius_m[s], 1e-6f));
 

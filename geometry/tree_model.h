@@ -13,15 +13,15 @@ namespace sylva {
 // Stems: the trunk, branches and their clones. A stem's cross-sections are the contiguous range
 // [first_section, first_section + section_count) of TreeModel::sections, from its base to its tip.
 struct TreeStems {
-  std::vector<uint8_t> level;           // 0 = trunk, 1 = main branches, ...
-  std::vector<int32_t> parent;          // stem this one grows from, -1 for the trunk
-  std::vector<int32_t> clone_of;        // stem this clone split from, -1 when not a clone
+  std::vector<uint8_t> level;     // 0 = trunk, 1 = main branches, ...
+  std::vector<int32_t> parent;    // stem this one grows from, -1 for the trunk
+  std::vector<int32_t> clone_of;  // stem this clone split from, -1 when not a clone
   std::vector<uint32_t> first_section;
   std::vector<uint32_t> section_count;
-  std::vector<float> length_m;          // full length (a clone has its twin's length)
-  std::vector<float> base_radius_m;     // radius at the stem base before flare and lobes
-  std::vector<float> offset_m;          // position of the base along the parent, from its base
-  std::vector<uint8_t> lobes;           // Weber & Penn §4.4 lobes; only the trunk has them
+  std::vector<float> length_m;       // full length (a clone has its twin's length)
+  std::vector<float> base_radius_m;  // radius at the stem base before flare and lobes
+  std::vector<float> offset_m;       // position of the base along the parent, from its base
+  std::vector<uint8_t> lobes;        // Weber & Penn §4.4 lobes; only the trunk has them
   std::vector<float> lobe_depth;
 
   size_t size() const { return level.size(); }

@@ -60,17 +60,17 @@ struct StemState {
   int parent = -1;
   int clone_of = -1;
   Vec3 pos{0.0f};
-  Frame section_frame;   // frame of the first cross-section
-  Frame frame;           // frame the next segment's curvature is applied to
-  Frame helix_frame;     // the stem's frame at segment 0 (helix mode, nCurveV < 0)
+  Frame section_frame;  // frame of the first cross-section
+  Frame frame;          // frame the next segment's curvature is applied to
+  Frame helix_frame;    // the stem's frame at segment 0 (helix mode, nCurveV < 0)
   int segment = 0;
   float length = 0.0f;
   float base_radius = 0.0f;
-  float offset = 0.0f;          // along the parent
+  float offset = 0.0f;  // along the parent
   float parent_length = 0.0f;
   float length_child_max = 1.0f;
   float split_correction_deg = 0.0f;
-  bool halved_splits = false;   // §4.3: a cloned stem or a clone splits half as often
+  bool halved_splits = false;  // §4.3: a cloned stem or a clone splits half as often
   uint64_t seed = 0;
   Pcg32 rng;
   float sway_offset_x = 0.0f, sway_offset_y = 0.0f;
@@ -161,8 +161,8 @@ class Builder {
     }
     if (s.level == p_.levels - 1 && p_.leaves > 0) {
       const float q = p_.quality * p_.leaf_quality;
-      const float count = wp::leaf_count(p_.leaves, p_.leaf_distrib, s.offset,
-                                         s.level == 0 ? 0.0f : s.parent_length, q);
+      const float count =
+          wp::leaf_count(p_.leaves, p_.leaf_distrib, s.offset, s.level == 0 ? 0.0f : s.parent_length, q);
       s.leaves_per_segment = std::max(0.0f, count) / static_cast<float>(n);
     }
   }
@@ -242,8 +242,7 @@ class Builder {
         f = rotate_x(rotate_z(s.helix_frame, turn), radians(-lp.curve_v));
       } else {
         const float curve = wp::segment_curve_deg(lp.curve, lp.curve_back, n, i) +
-                            lp.curve_v / static_cast<float>(n) * s.rng.symmetric() +
-                            s.split_correction_deg;
+                            lp.curve_v / static_cast<float>(n) * s.rng.symmetric() + s.split_correction_deg;
         f = rotate_x(f, radians(curve));
       }
       // §4.8 vertical attraction, levels ≥ 2.
@@ -252,9 +251,8 @@ class Builder {
       // §4.7 wind sway about the segment's x and y axes.
       if (p_.wind.active()) {
         const wp::Sway sway =
-            wp::sway_angles(s.length, s.base_radius, radius_at(s, z0), z0, n, p_.wind.speed,
-                            p_.wind.gust, p_.wind.time_s, p_.wind.time_scale, s.sway_offset_x,
-                            s.sway_offset_y);
+            wp::sway_angles(s.length, s.base_radius, radius_at(s, z0), z0, n, p_.wind.speed, p_.wind.gust,
+                            p_.wind.time_s, p_.wind.time_scale, s.sway_offset_x, s.sway_offset_y);
         f = rotate_y(rotate_x(f, radians(sway.x_deg)), radians(sway.y_deg));
       }
       f = orthonormalized(f);
@@ -299,7 +297,7 @@ class Builder {
 
     m_.stems.section_count[static_cast<size_t>(stem_index)] =
         static_cast<uint32_t>(m_.sections.size()) - m_.stems.first_section[static_cast<size_t>(stem_index)];
-    spawn_children(s, stem_index, n, seg_len, pos, f);
+    spawn_children(s, stem_index, seg_len, pos, f);
     for (StemState& c : clones) form(c, false);
     return -1;
   }
@@ -356,7 +354,7 @@ class Builder {
   }
 
   // §4.3 children and §4.5 leaves along the segments just formed.
-  void spawn_children(StemState& s, int stem_index, int n, float seg_len, const Vec3& tip, const Frame& tip_frame) {
+  void spawn_children(StemState& s, int stem_index, float seg_len, const Vec3& tip, const Frame& tip_frame) {
     const int next = s.level + 1;
     std::vector<SegmentStart>& segs = segments_[static_cast<size_t>(s.level)];
     if (next < p_.levels) {
@@ -403,7 +401,6 @@ class Builder {
         }
       }
     }
-    (void)n;
   }
 
   // Negative nBranches (§4.5): |nBranches| children in a fan of nRotate degrees at the stem end.
@@ -411,13 +408,14 @@ class Builder {
     const WeberPennLevel& lc = p_.at(s.level + 1);
     const int count = -lc.branches;
     for (int j = 0; j < count; ++j) {
-      const float a = count > 1 ? -0.5f * lc.rotate + lc.rotate * static_cast<float>(j) / static_cast<float>(count - 1) : 0.0f;
+      const float a =
+          count > 1 ? -0.5f * lc.rotate + lc.rotate * static_cast<float>(j) / static_cast<float>(count - 1) : 0.0f;
       spawn_child(s, stem_index, f, tip, s.length, a, true);
     }
   }
 
-  void spawn_child(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& pos,
-                   float offset, float fan_deg, bool fan) {
+  void spawn_child(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& pos, float offset,
+                   float fan_deg, bool fan) {
     StemState c;
     c.level = s.level + 1;
     c.parent = stem_index;
@@ -426,9 +424,8 @@ class Builder {
     const WeberPennLevel& lp = p_.at(c.level);
     // §4.3 length_child_max = nLength ± nLengthV, drawn per child.
     const float lcm = lp.length + lp.length_v * c.rng.symmetric();
-    float length = s.level == 0
-                       ? wp::child_length_level1(p_.shape, p_.envelope, s.length, length_base_, lcm, offset)
-                       : wp::child_length_deeper(lcm, s.length, offset);
+    float length = s.level == 0 ? wp::child_length_level1(p_.shape, p_.envelope, s.length, length_base_, lcm, offset)
+                                : wp::child_length_deeper(lcm, s.length, offset);
     // §4.3 down and rotate angles.
     const float parent_base = s.level == 0 ? length_base_ : 0.0f;
     const float span = s.length - parent_base;
@@ -452,8 +449,8 @@ class Builder {
     if (length < kMinStemLength) return;
 
     // §4.4 radius, limited to the parent's radius at the spawn point.
-    const float parent_r = wp::taper_radius(p_.at(s.level).taper, s.base_radius, s.length,
-                                            std::clamp(offset / s.length, 0.0f, 1.0f));
+    const float parent_r =
+        wp::taper_radius(p_.at(s.level).taper, s.base_radius, s.length, std::clamp(offset / s.length, 0.0f, 1.0f));
     auto radius_for = [&](float l) {
       return std::min(wp::child_radius(s.base_radius, l, s.length, p_.ratio_power), parent_r);
     };
@@ -491,13 +488,11 @@ class Builder {
     return result;
   }
 
-  bool inside(const Vec3& q) const {
-    return wp::inside_envelope(q, scale_tree_, p_.base_size, p_.envelope);
-  }
+  bool inside(const Vec3& q) const { return wp::inside_envelope(q, scale_tree_, p_.base_size, p_.envelope); }
 
   // §4.5 leaves, with the leaf level's down and rotate angles, oriented by §4.9.
-  void add_leaf(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& axis_pos,
-                float offset, bool fan, float fan_deg) {
+  void add_leaf(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& axis_pos, float offset, bool fan,
+                float fan_deg) {
     const WeberPennLevel& lp = p_.at(p_.levels);
     Pcg32 rng(hash_ids(s.seed, 0x1EAFull, static_cast<uint64_t>(m_.leaves.size())));
     const float ratio = s.length > 0.0f ? (s.length - offset) / s.length : 0.0f;
@@ -531,7 +526,8 @@ class Builder {
     const WeberPennLevel& lp = p_.at(p_.levels);
     const int count = std::max(1, static_cast<int>(std::lround(-p_.leaves * p_.quality * p_.leaf_quality)));
     for (int j = 0; j < count; ++j) {
-      const float a = count > 1 ? -0.5f * lp.rotate + lp.rotate * static_cast<float>(j) / static_cast<float>(count - 1) : 0.0f;
+      const float a =
+          count > 1 ? -0.5f * lp.rotate + lp.rotate * static_cast<float>(j) / static_cast<float>(count - 1) : 0.0f;
       add_leaf(s, stem_index, f, tip, s.length, true, a);
     }
   }
@@ -587,9 +583,9 @@ class Builder {
   float scale_tree_ = 1.0f;
   float z_scale_ = 1.0f;
   float length_base_ = 0.0f;
-  std::vector<float> split_error_;                    // §4.2 error diffusion, per level
-  std::vector<std::vector<SegmentStart>> segments_;   // scratch per level
-  std::vector<std::vector<float>> z_samples_;         // scratch per level
+  std::vector<float> split_error_;                   // §4.2 error diffusion, per level
+  std::vector<std::vector<SegmentStart>> segments_;  // scratch per level
+  std::vector<std::vector<float>> z_samples_;        // scratch per level
 };
 
 }  // namespace

@@ -15,16 +15,16 @@ namespace sylva {
 // Per-level parameters (the paper's nLength, nTaper, ...). Defaults are Arbaro's for level 1–3;
 // WeberPennParams sets the level-0 defaults. Levels deeper than 3 reuse level 3.
 struct WeberPennLevel {
-  float length = 0.5f, length_v = 0.0f;  // nLength, nLengthV
-  float taper = 1.0f;                     // nTaper in [0, 3)
-  float seg_splits = 0.0f;                // nSegSplits
-  float split_angle = 0.0f, split_angle_v = 0.0f;  // degrees
-  int curve_res = 3;                      // nCurveRes
+  float length = 0.5f, length_v = 0.0f;                   // nLength, nLengthV
+  float taper = 1.0f;                                     // nTaper in [0, 3)
+  float seg_splits = 0.0f;                                // nSegSplits
+  float split_angle = 0.0f, split_angle_v = 0.0f;         // degrees
+  int curve_res = 3;                                      // nCurveRes
   float curve = 0.0f, curve_back = 0.0f, curve_v = 0.0f;  // degrees; curve_v < 0: helix
   float down_angle = 30.0f, down_angle_v = 0.0f;          // degrees; down_angle_v < 0: by position
   float rotate = 120.0f, rotate_v = 0.0f;                 // degrees; rotate < 0: alternating
-  int branches = 5;                       // nBranches; < 0: fan at the stem end
-  float branch_dist = 1.0f;               // Arbaro nBranchDist: 1 spread over a segment, 0 at its base
+  int branches = 5;                                       // nBranches; < 0: fan at the stem end
+  float branch_dist = 1.0f;                               // Arbaro nBranchDist: 1 spread over a segment, 0 at its base
 };
 
 // Wind sway (§4.7); see wp::sway_angles. time_scale multiplies the phase rate (default 180/π as in
@@ -38,17 +38,17 @@ struct WeberPennWind {
 };
 
 struct WeberPennParams {
-  int shape = 0;                 // Shape 0..8 (ShapeRatio)
-  float base_size = 0.25f;       // BaseSize
-  float scale = 10.0f, scale_v = 0.0f;    // Scale, ScaleV (metres)
-  float z_scale = 1.0f, z_scale_v = 0.0f; // ZScale, ZScaleV: vertical scaling of the whole tree
-  int levels = 3;                // Levels (stem levels, trunk = level 0)
+  int shape = 0;                           // Shape 0..8 (ShapeRatio)
+  float base_size = 0.25f;                 // BaseSize
+  float scale = 10.0f, scale_v = 0.0f;     // Scale, ScaleV (metres)
+  float z_scale = 1.0f, z_scale_v = 0.0f;  // ZScale, ZScaleV: vertical scaling of the whole tree
+  int levels = 3;                          // Levels (stem levels, trunk = level 0)
   float ratio = 0.05f, ratio_power = 1.0f;
   int lobes = 0;
   float lobe_depth = 0.0f;
   float flare = 0.5f;
   float trunk_scale = 1.0f, trunk_scale_v = 0.0f;  // 0Scale, 0ScaleV
-  int base_splits = 0;                              // 0BaseSplits
+  int base_splits = 0;                             // 0BaseSplits
   std::array<WeberPennLevel, 4> level = [] {
     std::array<WeberPennLevel, 4> l{};
     l[0].length = 1.0f;
@@ -62,19 +62,19 @@ struct WeberPennParams {
     l[3].curve_res = 1;
     return l;
   }();
-  int leaves = 0;                // Leaves; < 0: fan of |Leaves| at the stem end
+  int leaves = 0;  // Leaves; < 0: fan of |Leaves| at the stem end
   LeafShape leaf_shape = LeafShape::Oval;
   float leaf_scale = 0.2f, leaf_scale_x = 0.5f;
   float attraction_up = 0.0f;
   float prune_ratio = 0.0f;
-  wp::Envelope envelope;         // PruneWidth, PruneWidthPeak, PrunePowerLow, PrunePowerHigh
+  wp::Envelope envelope;  // PruneWidth, PruneWidthPeak, PrunePowerLow, PrunePowerHigh
   // Arbaro extensions.
-  float leaf_bend = 0.3f;        // LeafBend: the 'bend' of §4.9
-  float leaf_stem_len = 0.5f;    // LeafStemLen: petiole length as a fraction of the leaf length
-  int leaf_distrib = 4;          // LeafDistrib: the shape of §4.5's leaf density (4 in the paper)
-  float leaf_quality = 1.0f;     // LeafQuality: multiplies `quality` for the leaves
+  float leaf_bend = 0.3f;      // LeafBend: the 'bend' of §4.9
+  float leaf_stem_len = 0.5f;  // LeafStemLen: petiole length as a fraction of the leaf length
+  int leaf_distrib = 4;        // LeafDistrib: the shape of §4.5's leaf density (4 in the paper)
+  float leaf_quality = 1.0f;   // LeafQuality: multiplies `quality` for the leaves
   // Evaluation settings (not species properties).
-  float quality = 1.0f;          // §4.5 quality factor: leaf count ×quality, leaf size /√quality
+  float quality = 1.0f;  // §4.5 quality factor: leaf count ×quality, leaf size /√quality
   WeberPennWind wind;
 
   const WeberPennLevel& at(int stem_level) const { return level[static_cast<size_t>(std::min(stem_level, 3))]; }

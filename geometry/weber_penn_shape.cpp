@@ -7,14 +7,22 @@ namespace sylva::wp {
 float shape_ratio(int shape, float ratio, const Envelope& envelope) {
   // Weber & Penn §4.3, the ShapeRatio table; shape 8 from §4.6.
   switch (shape) {
-    case 0: return 0.2f + 0.8f * ratio;
-    case 1: return 0.2f + 0.8f * std::sin(kPi * ratio);
-    case 2: return 0.2f + 0.8f * std::sin(0.5f * kPi * ratio);
-    case 3: return 1.0f;
-    case 4: return 0.5f + 0.5f * ratio;
-    case 5: return ratio <= 0.7f ? ratio / 0.7f : (1.0f - ratio) / 0.3f;
-    case 6: return 1.0f - 0.8f * ratio;
-    case 7: return ratio <= 0.7f ? 0.5f + 0.5f * ratio / 0.7f : 0.5f + 0.5f * (1.0f - ratio) / 0.3f;
+    case 0:
+      return 0.2f + 0.8f * ratio;
+    case 1:
+      return 0.2f + 0.8f * std::sin(kPi * ratio);
+    case 2:
+      return 0.2f + 0.8f * std::sin(0.5f * kPi * ratio);
+    case 3:
+      return 1.0f;
+    case 4:
+      return 0.5f + 0.5f * ratio;
+    case 5:
+      return ratio <= 0.7f ? ratio / 0.7f : (1.0f - ratio) / 0.3f;
+    case 6:
+      return 1.0f - 0.8f * ratio;
+    case 7:
+      return ratio <= 0.7f ? 0.5f + 0.5f * ratio / 0.7f : 0.5f + 0.5f * (1.0f - ratio) / 0.3f;
     case 8: {
       if (ratio < 0.0f || ratio > 1.0f) return 0.0f;
       const float peak = envelope.width_peak;
@@ -23,22 +31,24 @@ float shape_ratio(int shape, float ratio, const Envelope& envelope) {
       if (peak <= 0.0f) return 1.0f;
       return std::pow((1.0f - ratio) / peak, envelope.power_low);
     }
-    default: return 1.0f;
+    default:
+      return 1.0f;
   }
 }
 
 float taper_radius(float taper, float radius_stem, float length_stem, float z) {
   // Weber & Penn §4.4, radius_Z.
   float unit_taper = 0.0f;
-  if (taper < 1.0f) unit_taper = taper;
-  else if (taper < 2.0f) unit_taper = 2.0f - taper;
+  if (taper < 1.0f)
+    unit_taper = taper;
+  else if (taper < 2.0f)
+    unit_taper = 2.0f - taper;
   const float taper_z = radius_stem * (1.0f - unit_taper * z);
   if (taper < 1.0f) return taper_z;
   const float z2 = (1.0f - z) * length_stem;
   const float depth = (taper < 2.0f || z2 < taper_z) ? 1.0f : taper - 2.0f;
   float z3 = z2;
-  if (taper >= 2.0f && taper_z > 0.0f)
-    z3 = std::abs(z2 - 2.0f * taper_z * std::floor(z2 / (2.0f * taper_z) + 0.5f));
+  if (taper >= 2.0f && taper_z > 0.0f) z3 = std::abs(z2 - 2.0f * taper_z * std::floor(z2 / (2.0f * taper_z) + 0.5f));
   if (taper < 2.0f && z3 >= taper_z) return taper_z;
   return (1.0f - depth) * taper_z + depth * safe_sqrt(sqr(taper_z) - sqr(z3 - taper_z));
 }
@@ -99,8 +109,8 @@ float rotate_angle_deg(float rotate, float rotate_v, float previous_deg, int alt
   return static_cast<float>(alternate) * (180.0f + rotate + rotate_v * u);
 }
 
-float child_length_level1(int shape, const Envelope& envelope, float length_trunk,
-                          float length_base, float length_child_max, float offset) {
+float child_length_level1(int shape, const Envelope& envelope, float length_trunk, float length_base,
+                          float length_child_max, float offset) {
   const float span = length_trunk - length_base;
   const float ratio = span > 0.0f ? (length_trunk - offset) / span : 1.0f;
   return length_trunk * length_child_max * shape_ratio(shape, ratio, envelope);
@@ -112,8 +122,7 @@ float child_length_deeper(float length_child_max, float length_parent, float off
 
 float child_count_level1(int branches, float length, float length_parent, float length_child_max) {
   if (length_parent <= 0.0f || length_child_max <= 0.0f) return 0.0f;
-  return static_cast<float>(branches) *
-         (0.2f + 0.8f * (length / length_parent) / length_child_max);
+  return static_cast<float>(branches) * (0.2f + 0.8f * (length / length_parent) / length_child_max);
 }
 
 float child_count_deeper(int branches, float offset, float length_parent) {
@@ -131,9 +140,8 @@ float child_radius(float radius_parent, float length_child, float length_parent,
   return radius_parent * std::pow(length_child / length_parent, ratio_power);
 }
 
-Sway sway_angles(float length_stem, float radius_stem, float radius_z, float z, int curve_res,
-                 float wind_speed, float wind_gust, float time_s, float time_scale,
-                 float sway_offset_x, float sway_offset_y) {
+Sway sway_angles(float length_stem, float radius_stem, float radius_z, float z, int curve_res, float wind_speed,
+                 float wind_gust, float time_s, float time_scale, float sway_offset_x, float sway_offset_y) {
   // Weber & Penn §4.7 with the equations of issue 3.
   if (length_stem <= 0.0f || radius_z <= 0.0f) return {};
   const float a0 = 4.0f * length_stem * (1.0f - z) / radius_z;
@@ -143,8 +151,7 @@ Sway sway_angles(float length_stem, float radius_stem, float radius_z, float z, 
   const float bx = sway_offset_x + phase;
   const float by = sway_offset_y + phase;
   const float n = static_cast<float>(std::max(1, curve_res));
-  return {(a1 * std::sin(bx) + a2 * std::sin(0.7f * bx)) / n,
-          (a1 * std::sin(by) + a2 * std::sin(0.7f * by)) / n};
+  return {(a1 * std::sin(bx) + a2 * std::sin(0.7f * bx)) / n, (a1 * std::sin(by) + a2 * std::sin(0.7f * by)) / n};
 }
 
 }  // namespace sylva::wp

@@ -72,8 +72,8 @@ float rotate_angle_deg(float rotate, float rotate_v, float previous_deg, int alt
 
 // Weber & Penn §4.3, child lengths. Level 1 (children of the trunk):
 // length_trunk·length_child_max·ShapeRatio(Shape, (length_trunk − offset)/(length_trunk − length_base)).
-float child_length_level1(int shape, const Envelope& envelope, float length_trunk,
-                          float length_base, float length_child_max, float offset);
+float child_length_level1(int shape, const Envelope& envelope, float length_trunk, float length_base,
+                          float length_child_max, float offset);
 // Deeper levels: length_child_max·(length_parent − 0.6·offset).
 float child_length_deeper(float length_child_max, float length_parent, float offset);
 
@@ -99,8 +99,7 @@ struct Sway {
   float x_deg = 0;
   float y_deg = 0;
 };
-Sway sway_angles(float length_stem, float radius_stem, float radius_z, float z, int curve_res,
-                 float wind_speed, float wind_gust, float time_s, float time_scale,
-                 float sway_offset_x, float sway_offset_y);
+Sway sway_angles(float length_stem, float radius_stem, float radius_z, float z, int curve_res, float wind_speed,
+                 float wind_gust, float time_s, float time_scale, float sway_offset_x, float sway_offset_y);
 
 }  // namespace sylva::wp

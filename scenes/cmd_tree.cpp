@@ -71,7 +71,8 @@ CommandRun add_tree_command(CLI::App& parent) {
   cmd->add_option("--time", args->time_s, "Time in seconds for wind sway")->capture_default_str();
   cmd->add_option("--wind", args->wind, "Wind SPEED,GUST (Weber & Penn §4.7)");
   cmd->add_option("--quality", args->quality, "Quality factor (§4.5): leaf count and mesh resolution")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("--obj", args->obj, "Write the mesh as Wavefront OBJ");
   cmd->add_option("--ply", args->ply, "Write the mesh as binary PLY");
   cmd->add_flag("--stats", args->stats, "Print statistics as JSON");

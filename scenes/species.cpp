@@ -5,8 +5,8 @@
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
-#include <pugixml.hpp>
 #include <toml++/toml.h>
+#include <pugixml.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -152,8 +152,10 @@ class ParamSink {
     if (integer && v.number != std::floor(v.number))
       fail(line, fmt::format("'{}' must be an integer, not {}", name, format_number(v.number)));
     if (v.number < lo || v.number > hi) {
-      if (hi >= kInf) fail(line, fmt::format("'{}' must be at least {}, not {}", name, format_number(lo), format_number(v.number)));
-      if (lo <= -kInf) fail(line, fmt::format("'{}' must be at most {}, not {}", name, format_number(hi), format_number(v.number)));
+      if (hi >= kInf)
+        fail(line, fmt::format("'{}' must be at least {}, not {}", name, format_number(lo), format_number(v.number)));
+      if (lo <= -kInf)
+        fail(line, fmt::format("'{}' must be at most {}, not {}", name, format_number(hi), format_number(v.number)));
       fail(line, fmt::format("'{}' must be in [{}, {}], not {}", name, format_number(lo), format_number(hi),
                              format_number(v.number)));
     }
@@ -165,8 +167,9 @@ class ParamSink {
   void set_leaf_shape(const Value& v, int line) {
     if (v.is_number) {
       if (v.number != std::floor(v.number) || v.number < 0 || v.number > 5)
-        fail(line, fmt::format("'LeafShape' must be an id 0..5 (oval, triangle, oak3, maple3, maple5, leaflets3), not {}",
-                               format_number(v.number)));
+        fail(line,
+             fmt::format("'LeafShape' must be an id 0..5 (oval, triangle, oak3, maple3, maple5, leaflets3), not {}",
+                         format_number(v.number)));
       p_.leaf_shape = static_cast<LeafShape>(static_cast<int>(v.number) + static_cast<int>(LeafShape::Oval));
       return;
     }
@@ -181,7 +184,9 @@ class ParamSink {
     }
     const std::optional<LeafShape> shape = leaf_shape_from_name(v.text);
     if (!shape || *shape == LeafShape::Rectangle)
-      fail(line, fmt::format("unknown LeafShape \"{}\" (expected 0..5 or oval, triangle, oak3, maple3, maple5, leaflets3)", v.text));
+      fail(line,
+           fmt::format("unknown LeafShape \"{}\" (expected 0..5 or oval, triangle, oak3, maple3, maple5, leaflets3)",
+                       v.text));
     p_.leaf_shape = *shape;
   }
 
@@ -285,11 +290,13 @@ Species parse_arbaro_xml(const std::string& text, const std::filesystem::path& f
     if (node.type() != pugi::node_element) continue;
     const int line = line_at(text, node.offset_debug());
     if (std::string_view(node.name()) != "param")
-      throw ParseError(file, line, fmt::format("unexpected <{}> in <species> (expected <param name=... value=.../>)", node.name()));
+      throw ParseError(file, line,
+                       fmt::format("unexpected <{}> in <species> (expected <param name=... value=.../>)", node.name()));
     const pugi::xml_attribute name = node.attribute("name");
     const pugi::xml_attribute value = node.attribute("value");
     if (!name) throw ParseError(file, line, "<param> without a name attribute");
-    if (!value) throw ParseError(file, line, fmt::format("<param name=\"{}\"> without a value attribute", name.value()));
+    if (!value)
+      throw ParseError(file, line, fmt::format("<param name=\"{}\"> without a value attribute", name.value()));
     const std::string pname = name.value();
     if (pname == "Species") {
       species.name = value.value();

@@ -24,7 +24,10 @@ struct Hasher {
     for (; i < bytes; ++i) tail = (tail << 8) | p[i];
     h = mix64(h ^ tail);
   }
-  template <typename T> void add_vector(const std::vector<T>& v) { add(v.data(), v.size() * sizeof(T)); }
+  template <typename T>
+  void add_vector(const std::vector<T>& v) {
+    add(v.data(), v.size() * sizeof(T));
+  }
 };
 
 std::string json_string(const std::string& s) {

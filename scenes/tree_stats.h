@@ -13,15 +13,15 @@
 namespace sylva {
 
 struct TreeStats {
-  std::vector<int> stems_per_level;   // clones included
+  std::vector<int> stems_per_level;  // clones included
   std::vector<int> clones_per_level;
   int leaves = 0;
   size_t vertices = 0;
   size_t triangles = 0;
   size_t quads = 0;
   Bounds3 bounds;
-  float height_m = 0;                 // mesh bounding box height
-  double leaf_area_m2 = 0;            // quad area, not counting the alpha cut-out
+  float height_m = 0;       // mesh bounding box height
+  double leaf_area_m2 = 0;  // quad area, not counting the alpha cut-out
   uint64_t mesh_hash = 0;
 };
 

@@ -8,8 +8,8 @@
 namespace sylva {
 namespace {
 
-constexpr LeafShape kShapes[] = {LeafShape::Oval, LeafShape::Triangle, LeafShape::Oak3,
-                                 LeafShape::Maple3, LeafShape::Maple5, LeafShape::Leaflets3};
+constexpr LeafShape kShapes[] = {LeafShape::Oval,   LeafShape::Triangle, LeafShape::Oak3,
+                                 LeafShape::Maple3, LeafShape::Maple5,   LeafShape::Leaflets3};
 
 TEST(LeafShape, NamesRoundTrip) {
   for (int s = 0; s < static_cast<int>(LeafShape::Count); ++s) {

@@ -112,7 +112,7 @@ TEST(TreeMesher, StraightStemCountsNormalsAndUVs) {
 TEST(TreeMesher, QualityAndLobesSetRadialResolution) {
   TreeMeshOptions o;
   EXPECT_EQ(radial_segments_for_level(o, 0, 0), 16);
-  EXPECT_EQ(radial_segments_for_level(o, 7, 0), 4);  // deeper levels use the last entry
+  EXPECT_EQ(radial_segments_for_level(o, 7, 0), 4);   // deeper levels use the last entry
   EXPECT_EQ(radial_segments_for_level(o, 0, 5), 20);  // 4 vertices per lobe
   o.quality = 0.25f;
   EXPECT_EQ(radial_segments_for_level(o, 0, 0), 4);

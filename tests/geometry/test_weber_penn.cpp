@@ -15,7 +15,9 @@
 namespace sylva {
 namespace {
 
-float angle_deg(const Vec3& a, const Vec3& b) { return degrees(safe_acos(glm::dot(glm::normalize(a), glm::normalize(b)))); }
+float angle_deg(const Vec3& a, const Vec3& b) {
+  return degrees(safe_acos(glm::dot(glm::normalize(a), glm::normalize(b))));
+}
 
 // A bare trunk: one level, straight unless the test curves it.
 WeberPennParams bare_trunk() {
@@ -195,8 +197,7 @@ TEST(WeberPenn, SplitCountAveragesSegSplits) {
       EXPECT_EQ(m.stems.level[twin], 1);
       EXPECT_EQ(m.stems.length_m[twin], m.stems.length_m[i]);
       // The clone starts at its twin's split point.
-      EXPECT_EQ(m.sections.positions[m.stems.first_section[i]],
-                m.sections.positions[m.stems.first_section[twin] + 1]);
+      EXPECT_EQ(m.sections.positions[m.stems.first_section[i]], m.sections.positions[m.stems.first_section[twin] + 1]);
     }
   }
   ASSERT_GE(originals, 190);
@@ -213,7 +214,7 @@ TEST(WeberPenn, BaseSplitsSpreadEvenly) {
   std::vector<float> az;
   for (size_t i = 0; i < 3; ++i) {
     const Vec3 d = m.sections.frames[m.stems.first_section[i] + (i == 0 ? 2 : 1)].z;  // segment after the split
-    EXPECT_NEAR(angle_deg(d, Vec3(0, 0, 1)), 20.0f * 2.0f / 3.0f, 0.05f);  // 20°, then −20/3 corrected
+    EXPECT_NEAR(angle_deg(d, Vec3(0, 0, 1)), 20.0f * 2.0f / 3.0f, 0.05f);             // 20°, then −20/3 corrected
     az.push_back(degrees(std::atan2(d.y, d.x)));
   }
   EXPECT_NEAR(std::abs(std::remainder(az[1] - az[0], 360.0f)), 120.0f, 0.05f);
@@ -245,8 +246,8 @@ TEST(WeberPenn, PruningKeepsEveryStemPointInsideEnvelope) {
   int outside = 0;
   for (size_t i = 0; i < u.stems.size(); ++i)
     if (u.stems.level[i] > 0 &&
-        !wp::inside_envelope(u.sections.positions[u.stems.first_section[i] + u.stems.section_count[i] - 1],
-                             p.scale, p.base_size, p.envelope))
+        !wp::inside_envelope(u.sections.positions[u.stems.first_section[i] + u.stems.section_count[i] - 1], p.scale,
+                             p.base_size, p.envelope))
       ++outside;
   EXPECT_GT(outside, 0);
 }
@@ -307,8 +308,11 @@ TEST(WeberPenn, SameSeedBitIdenticalDifferentSeedSimilarCounts) {
     const TreeMesh b = make_tree_mesh(make_weber_penn_tree(p, 42));
     ASSERT_EQ(a.stems.positions.size(), b.stems.positions.size());
     ASSERT_EQ(a.leaves.corners.size(), b.leaves.corners.size());
-    EXPECT_EQ(std::memcmp(a.stems.positions.data(), b.stems.positions.data(), a.stems.positions.size() * sizeof(Vec3)), 0);
-    EXPECT_EQ(std::memcmp(a.stems.triangles.data(), b.stems.triangles.data(), a.stems.triangles.size() * sizeof(glm::uvec3)), 0);
+    EXPECT_EQ(std::memcmp(a.stems.positions.data(), b.stems.positions.data(), a.stems.positions.size() * sizeof(Vec3)),
+              0);
+    EXPECT_EQ(
+        std::memcmp(a.stems.triangles.data(), b.stems.triangles.data(), a.stems.triangles.size() * sizeof(glm::uvec3)),
+        0);
     EXPECT_EQ(std::memcmp(a.leaves.corners.data(), b.leaves.corners.data(), a.leaves.corners.size() * sizeof(Vec3)), 0);
 
     const TreeModel m1 = make_weber_penn_tree(p, 42), m2 = make_weber_penn_tree(p, 43);
@@ -346,7 +350,8 @@ TEST(WeberPenn, ZScaleScalesVertically) {
 }
 
 TEST(WeberPenn, FourAppendixSpeciesAreSensible) {
-  for (const WeberPennParams& p : {test::quaking_aspen(), test::black_tupelo(), test::weeping_willow(), test::california_black_oak()}) {
+  for (const WeberPennParams& p :
+       {test::quaking_aspen(), test::black_tupelo(), test::weeping_willow(), test::california_black_oak()}) {
     const TreeModel m = make_weber_penn_tree(p, 1);
     const std::vector<int> n = stems_per_level(m);
     EXPECT_EQ(static_cast<int>(n.size()), p.levels);

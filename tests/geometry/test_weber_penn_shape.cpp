@@ -14,21 +14,21 @@ constexpr float kTol = 1e-5f;
 
 TEST(WeberPennShape, ShapeRatioTableAllNineShapes) {
   // §4.3 table at ratio 0.25 and 0.8 (both branches of the piecewise shapes).
-  EXPECT_NEAR(shape_ratio(0, 0.25f), 0.4f, kTol);                 // 0.2 + 0.8·0.25
-  EXPECT_NEAR(shape_ratio(1, 0.25f), 0.7656854f, kTol);           // 0.2 + 0.8·sin(π/4)
-  EXPECT_NEAR(shape_ratio(2, 0.25f), 0.5061467f, kTol);           // 0.2 + 0.8·sin(π/8)
+  EXPECT_NEAR(shape_ratio(0, 0.25f), 0.4f, kTol);        // 0.2 + 0.8·0.25
+  EXPECT_NEAR(shape_ratio(1, 0.25f), 0.7656854f, kTol);  // 0.2 + 0.8·sin(π/4)
+  EXPECT_NEAR(shape_ratio(2, 0.25f), 0.5061467f, kTol);  // 0.2 + 0.8·sin(π/8)
   EXPECT_NEAR(shape_ratio(3, 0.25f), 1.0f, kTol);
-  EXPECT_NEAR(shape_ratio(4, 0.25f), 0.625f, kTol);               // 0.5 + 0.5·0.25
-  EXPECT_NEAR(shape_ratio(5, 0.25f), 0.25f / 0.7f, kTol);         // ratio/0.7
-  EXPECT_NEAR(shape_ratio(5, 0.8f), 0.2f / 0.3f, kTol);           // (1 − ratio)/0.3
-  EXPECT_NEAR(shape_ratio(6, 0.25f), 0.8f, kTol);                 // 1 − 0.8·0.25
+  EXPECT_NEAR(shape_ratio(4, 0.25f), 0.625f, kTol);        // 0.5 + 0.5·0.25
+  EXPECT_NEAR(shape_ratio(5, 0.25f), 0.25f / 0.7f, kTol);  // ratio/0.7
+  EXPECT_NEAR(shape_ratio(5, 0.8f), 0.2f / 0.3f, kTol);    // (1 − ratio)/0.3
+  EXPECT_NEAR(shape_ratio(6, 0.25f), 0.8f, kTol);          // 1 − 0.8·0.25
   EXPECT_NEAR(shape_ratio(7, 0.25f), 0.5f + 0.5f * 0.25f / 0.7f, kTol);
   EXPECT_NEAR(shape_ratio(7, 0.8f), 0.5f + 0.5f * 0.2f / 0.3f, kTol);
-  const Envelope e{0.5f, 0.6f, 1.0f, 0.5f};  // width, peak P, power low, power high
-  EXPECT_NEAR(shape_ratio(8, 0.2f, e), std::sqrt(0.5f), kTol);    // (0.2/(1 − P))^high
-  EXPECT_NEAR(shape_ratio(8, 0.7f, e), 0.5f, kTol);               // ((1 − 0.7)/P)^low
-  EXPECT_NEAR(shape_ratio(8, 0.4f, e), 1.0f, kTol);               // the peak
-  EXPECT_NEAR(shape_ratio(8, 0.4f - 1e-4f, e), 1.0f, 1e-3f);      // continuous at the peak
+  const Envelope e{0.5f, 0.6f, 1.0f, 0.5f};                     // width, peak P, power low, power high
+  EXPECT_NEAR(shape_ratio(8, 0.2f, e), std::sqrt(0.5f), kTol);  // (0.2/(1 − P))^high
+  EXPECT_NEAR(shape_ratio(8, 0.7f, e), 0.5f, kTol);             // ((1 − 0.7)/P)^low
+  EXPECT_NEAR(shape_ratio(8, 0.4f, e), 1.0f, kTol);             // the peak
+  EXPECT_NEAR(shape_ratio(8, 0.4f - 1e-4f, e), 1.0f, 1e-3f);    // continuous at the peak
   EXPECT_EQ(shape_ratio(8, -0.1f, e), 0.0f);
   EXPECT_EQ(shape_ratio(8, 1.1f, e), 0.0f);
 }
@@ -44,7 +44,7 @@ TEST(WeberPennShape, TaperAllModes) {
   EXPECT_NEAR(taper_radius(1.5f, 0.5f, 1.0f, 0.9f), std::sqrt(0.045f), kTol);
   // nTaper 2: cylinder ending in a hemisphere of the stem's radius.
   EXPECT_NEAR(taper_radius(2.0f, 0.5f, 10.0f, 0.5f), 0.5f, kTol);
-  EXPECT_NEAR(taper_radius(2.0f, 0.5f, 10.0f, 0.98f), 0.4f, kTol);   // Z2 = 0.2: sqrt(0.25 − 0.09)
+  EXPECT_NEAR(taper_radius(2.0f, 0.5f, 10.0f, 0.98f), 0.4f, kTol);  // Z2 = 0.2: sqrt(0.25 − 0.09)
   EXPECT_NEAR(taper_radius(2.0f, 0.5f, 10.0f, 1.0f), 0.0f, kTol);
   // nTaper 2.5: periodic, depth 0.5. Z2 = 5 is a sphere boundary (Z3 = 0), Z2 = 5.5 a sphere centre.
   EXPECT_NEAR(taper_radius(2.5f, 0.5f, 10.0f, 0.5f), 0.25f, kTol);
@@ -52,9 +52,9 @@ TEST(WeberPennShape, TaperAllModes) {
 }
 
 TEST(WeberPennShape, Flare) {
-  EXPECT_NEAR(flare_scale(1.0f, 0.0f), 1.99f, kTol);            // Flare·(100¹ − 1)/100 + 1
-  EXPECT_NEAR(flare_scale(1.0f, 1.0f / 16.0f), 1.09f, kTol);    // y = 0.5: (10 − 1)/100 + 1
-  EXPECT_NEAR(flare_scale(0.6f, 0.125f), 1.0f, kTol);           // y limited to 0
+  EXPECT_NEAR(flare_scale(1.0f, 0.0f), 1.99f, kTol);          // Flare·(100¹ − 1)/100 + 1
+  EXPECT_NEAR(flare_scale(1.0f, 1.0f / 16.0f), 1.09f, kTol);  // y = 0.5: (10 − 1)/100 + 1
+  EXPECT_NEAR(flare_scale(0.6f, 0.125f), 1.0f, kTol);         // y limited to 0
   EXPECT_NEAR(flare_scale(0.6f, 0.7f), 1.0f, kTol);
 }
 
@@ -70,7 +70,7 @@ TEST(WeberPennShape, EnvelopeInsideOutside) {
   // ShapeRatio(8) = (1 − 0.625)/0.5 = 0.75, so the envelope's radius is 0.5·0.75·10 = 3.75 m.
   const Envelope e{0.5f, 0.5f, 1.0f, 1.0f};
   EXPECT_TRUE(inside_envelope({3.7f, 0.0f, 5.0f}, 10.0f, 0.2f, e));
-  EXPECT_TRUE(inside_envelope({2.6f, 2.6f, 5.0f}, 10.0f, 0.2f, e));   // horizontal distance 3.68
+  EXPECT_TRUE(inside_envelope({2.6f, 2.6f, 5.0f}, 10.0f, 0.2f, e));  // horizontal distance 3.68
   EXPECT_FALSE(inside_envelope({3.8f, 0.0f, 5.0f}, 10.0f, 0.2f, e));
   // Above the peak, z = 8: ratio 0.25, ShapeRatio(8) = 0.25/0.5, radius 2.5 m.
   EXPECT_TRUE(inside_envelope({0.0f, 2.4f, 8.0f}, 10.0f, 0.2f, e));
@@ -107,9 +107,9 @@ TEST(WeberPennShape, SplitAngles) {
   EXPECT_NEAR(split_angle_deg(30.0f, 10.0f, 0.5f, 12.0f), 23.0f, kTol);  // (30 + 5) − 12
   EXPECT_NEAR(split_angle_deg(30.0f, 10.0f, 0.5f, 50.0f), 0.0f, kTol);   // limited to 0
   EXPECT_NEAR(split_spread_deg(90.0f, 0.0f), 20.0f, kTol);
-  EXPECT_NEAR(split_spread_deg(90.0f, 1.0f - 1e-7f), 42.5f, 1e-4f);      // 20 + 0.75·30
-  EXPECT_NEAR(split_spread_deg(0.0f, 1.0f - 1e-7f), 110.0f, 1e-4f);      // 20 + 0.75·120
-  EXPECT_NEAR(split_spread_deg(0.0f, 0.5f), 42.5f, kTol);                // 20 + 0.75·120·0.25
+  EXPECT_NEAR(split_spread_deg(90.0f, 1.0f - 1e-7f), 42.5f, 1e-4f);  // 20 + 0.75·30
+  EXPECT_NEAR(split_spread_deg(0.0f, 1.0f - 1e-7f), 110.0f, 1e-4f);  // 20 + 0.75·120
+  EXPECT_NEAR(split_spread_deg(0.0f, 0.5f), 42.5f, kTol);            // 20 + 0.75·120·0.25
 }
 
 TEST(WeberPennShape, SegmentCurveSumsToCurve) {
@@ -128,9 +128,9 @@ TEST(WeberPennShape, AttractionUp) {
   // Horizontal segment (z·Z = 0) whose y axis points up: declination π/2, orientation 0.
   EXPECT_NEAR(attraction_up_rad(1.0f, 0.0f, 1.0f, 1), kPi / 2.0f, kTol);
   EXPECT_NEAR(attraction_up_rad(0.5f, 0.0f, 1.0f, 5), kPi / 20.0f, kTol);
-  EXPECT_NEAR(attraction_up_rad(1.0f, 0.0f, 0.0f, 1), 0.0f, kTol);     // y horizontal: no effect
+  EXPECT_NEAR(attraction_up_rad(1.0f, 0.0f, 0.0f, 1), 0.0f, kTol);  // y horizontal: no effect
   EXPECT_NEAR(attraction_up_rad(-3.0f, 0.0f, 1.0f, 3), -kPi / 2.0f, kTol);
-  EXPECT_NEAR(attraction_up_rad(1.0f, 1.0f, 0.0f, 1), 0.0f, kTol);     // already vertical
+  EXPECT_NEAR(attraction_up_rad(1.0f, 1.0f, 0.0f, 1), 0.0f, kTol);  // already vertical
 }
 
 TEST(WeberPennShape, DownAngles) {
@@ -144,7 +144,7 @@ TEST(WeberPennShape, DownAngles) {
 TEST(WeberPennShape, RotateAngles) {
   EXPECT_NEAR(rotate_angle_deg(140.0f, 0.0f, 100.0f, 1, 0.3f), 240.0f, kTol);
   EXPECT_NEAR(rotate_angle_deg(140.0f, 20.0f, 0.0f, 1, -0.5f), 130.0f, kTol);
-  EXPECT_NEAR(rotate_angle_deg(-120.0f, 30.0f, 999.0f, 1, 0.5f), 75.0f, kTol);   // 180 − 120 + 15
+  EXPECT_NEAR(rotate_angle_deg(-120.0f, 30.0f, 999.0f, 1, 0.5f), 75.0f, kTol);  // 180 − 120 + 15
   EXPECT_NEAR(rotate_angle_deg(-120.0f, 30.0f, 999.0f, -1, 0.5f), -75.0f, kTol);
 }
 
@@ -153,11 +153,11 @@ TEST(WeberPennShape, ChildLengthsCountsRadii) {
   // Level 1: length_trunk·length_child_max·ShapeRatio(Shape, (L − offset)/(L − L_base)).
   EXPECT_NEAR(child_length_level1(3, e, 10.0f, 2.0f, 0.3f, 5.0f), 3.0f, kTol);
   EXPECT_NEAR(child_length_level1(0, e, 10.0f, 2.0f, 0.3f, 5.0f), 10.0f * 0.3f * 0.7f, kTol);  // ratio 0.625
-  EXPECT_NEAR(child_length_deeper(0.5f, 4.0f, 1.0f), 1.7f, kTol);  // 0.5·(4 − 0.6)
+  EXPECT_NEAR(child_length_deeper(0.5f, 4.0f, 1.0f), 1.7f, kTol);                              // 0.5·(4 − 0.6)
   EXPECT_NEAR(child_count_level1(30, 3.0f, 10.0f, 0.3f), 30.0f, kTol);
   EXPECT_NEAR(child_count_level1(30, 1.5f, 10.0f, 0.3f), 30.0f * 0.6f, kTol);
   EXPECT_NEAR(child_count_deeper(10, 2.0f, 4.0f), 7.5f, kTol);
-  EXPECT_NEAR(leaf_count(25, 4, 2.0f, 4.0f, 1.0f), 18.75f, kTol);   // 25·(0.5 + 0.5·0.5)
+  EXPECT_NEAR(leaf_count(25, 4, 2.0f, 4.0f, 1.0f), 18.75f, kTol);  // 25·(0.5 + 0.5·0.5)
   EXPECT_NEAR(leaf_count(25, 4, 2.0f, 4.0f, 0.5f), 9.375f, kTol);
   EXPECT_NEAR(child_radius(0.2f, 2.0f, 8.0f, 1.2f), 0.2f * std::pow(0.25f, 1.2f), kTol);
 }

@@ -79,25 +79,31 @@ TEST(Species, LevelPrefixAtTopLevelAndArbaroDefaults) {
   EXPECT_EQ(wp(s).level[2].curve_res, 1);
   EXPECT_FLOAT_EQ(wp(s).leaf_scale, 0.2f);
   EXPECT_FLOAT_EQ(wp(s).leaf_bend, 0.3f);
-  EXPECT_EQ(wp(parse_species("model = \"weber-penn\"\nLeafShape = \"maple5\"\n", "x.toml")).leaf_shape, LeafShape::Maple5);
+  EXPECT_EQ(wp(parse_species("model = \"weber-penn\"\nLeafShape = \"maple5\"\n", "x.toml")).leaf_shape,
+            LeafShape::Maple5);
   EXPECT_EQ(wp(parse_species("model = \"weber-penn\"\nLeafShape = 2\n", "x.toml")).leaf_shape, LeafShape::Oak3);
 }
 
 TEST(Species, TomlErrorsCarryFileAndLine) {
   EXPECT_EQ(error_of("name = \"x\"\n"), "bad.toml:1: missing key 'model' (e.g. model = \"weber-penn\")");
   EXPECT_EQ(error_of("model = \"lsys\"\n"), "bad.toml:1: unknown model \"lsys\" (this version reads \"weber-penn\")");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = 7\nBaseSise = 0.4\n"), "bad.toml:3: unknown parameter 'BaseSise'");
+  EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = 7\nBaseSise = 0.4\n"),
+            "bad.toml:3: unknown parameter 'BaseSise'");
   EXPECT_EQ(error_of("model = \"weber-penn\"\n\nShape = 9\n"), "bad.toml:3: 'Shape' must be in [0, 8], not 9");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = 7.5\n"), "bad.toml:2: 'Shape' must be an integer, not 7.5");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nScale = \"big\"\n"), "bad.toml:2: 'Scale' must be a number, not \"big\"");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nScale = -1\n"), "bad.toml:2: 'Scale' must be at least 1e-06, not -1");
   EXPECT_EQ(error_of("model = \"weber-penn\"\n1DownAngle = 60\n[level1]\nDownAngle = 50\n"),
             "bad.toml:4: parameter '1DownAngle' given twice (first on line 2)");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level1]\nDownAngel = 50\n"), "bad.toml:3: unknown level parameter 'DownAngel' in [level1]");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level7]\nLength = 1\n"), "bad.toml:2: unknown table [level7] (expected [level0] .. [level3])");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level1]\nCurveRes = 0\n"), "bad.toml:3: '1CurveRes' must be in [1, 10000], not 0");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nLeafShape = \"fern\"\n"),
-            "bad.toml:2: unknown LeafShape \"fern\" (expected 0..5 or oval, triangle, oak3, maple3, maple5, leaflets3)");
+  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level1]\nDownAngel = 50\n"),
+            "bad.toml:3: unknown level parameter 'DownAngel' in [level1]");
+  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level7]\nLength = 1\n"),
+            "bad.toml:2: unknown table [level7] (expected [level0] .. [level3])");
+  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level1]\nCurveRes = 0\n"),
+            "bad.toml:3: '1CurveRes' must be in [1, 10000], not 0");
+  EXPECT_EQ(
+      error_of("model = \"weber-penn\"\nLeafShape = \"fern\"\n"),
+      "bad.toml:2: unknown LeafShape \"fern\" (expected 0..5 or oval, triangle, oak3, maple3, maple5, leaflets3)");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = [1]\n"), "bad.toml:2: 'Shape' must be a number");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = \n").substr(0, 11), "bad.toml:2:");  // TOML syntax
   EXPECT_EQ(error_of("x", "tree.obj"), "tree.obj:0: unknown species file type (expected .toml or .xml)");
@@ -133,8 +139,10 @@ TEST(Species, ArbaroXmlErrors) {
   const std::string head = "<arbaro>\n<species name='x'>\n";
   EXPECT_EQ(error_of(head + "<param name='Shape' value='seven'/>\n</species></arbaro>", "x.xml"),
             "x.xml:3: 'Shape' must be a number, not \"seven\"");
-  EXPECT_EQ(error_of(head + "<param name='Shape' value='1'/>\n<param name='WoodType' value='Oak'/>\n</species></arbaro>", "x.xml"),
-            "x.xml:4: unknown parameter 'WoodType'");
+  EXPECT_EQ(
+      error_of(head + "<param name='Shape' value='1'/>\n<param name='WoodType' value='Oak'/>\n</species></arbaro>",
+               "x.xml"),
+      "x.xml:4: unknown parameter 'WoodType'");
   EXPECT_EQ(error_of(head + "<param name='Shape'/>\n</species></arbaro>", "x.xml"),
             "x.xml:3: <param name=\"Shape\"> without a value attribute");
   EXPECT_EQ(error_of(head + "\n<param name='4Length' value='1'/>\n</species></arbaro>", "x.xml"),

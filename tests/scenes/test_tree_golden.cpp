@@ -61,7 +61,8 @@ INSTANTIATE_TEST_SUITE_P(Species, TreeGolden,
                          });
 
 int run(const std::string& args, const std::filesystem::path& out, const std::filesystem::path& err) {
-  const std::string cmd = std::string("\"") + SYLVA_BINARY + "\" " + args + " > \"" + out.string() + "\" 2> \"" + err.string() + "\"";
+  const std::string cmd =
+      std::string("\"") + SYLVA_BINARY + "\" " + args + " > \"" + out.string() + "\" 2> \"" + err.string() + "\"";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -69,9 +70,13 @@ int run(const std::string& args, const std::filesystem::path& out, const std::fi
 TEST(SylvaTree, StatsAndExport) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "sylva_test_tree";
   std::filesystem::create_directories(dir);
-  const std::filesystem::path out = dir / "out.txt", err = dir / "err.txt", obj = dir / "aspen.obj", ply = dir / "aspen.ply";
+  const std::filesystem::path out = dir / "out.txt", err = dir / "err.txt", obj = dir / "aspen.obj",
+                              ply = dir / "aspen.ply";
   const std::string species = (kSource / "scenes" / "species" / "quaking_aspen.toml").string();
-  ASSERT_EQ(run("tree \"" + species + "\" --seed 3 --stats --obj \"" + obj.string() + "\" --ply \"" + ply.string() + "\"", out, err), 0)
+  ASSERT_EQ(
+      run("tree \"" + species + "\" --seed 3 --stats --obj \"" + obj.string() + "\" --ply \"" + ply.string() + "\"",
+          out, err),
+      0)
       << read_text(err);
   const std::string stats = read_text(out);
   for (const char* key : {"\"stems_per_level\"", "\"clones_per_level\"", "\"leaves\"", "\"triangles\"", "\"quads\"",
@@ -80,7 +85,8 @@ TEST(SylvaTree, StatsAndExport) {
   EXPECT_GT(std::filesystem::file_size(obj), 100000u);
   EXPECT_GT(std::filesystem::file_size(ply), 100000u);
   // Wind and quality are accepted; a wind changes the mesh hash.
-  ASSERT_EQ(run("tree \"" + species + "\" --seed 3 --stats --time 2 --wind 5,2 --quality 0.5", dir / "wind.txt", err), 0)
+  ASSERT_EQ(run("tree \"" + species + "\" --seed 3 --stats --time 2 --wind 5,2 --quality 0.5", dir / "wind.txt", err),
+            0)
       << read_text(err);
   EXPECT_NE(read_text(dir / "wind.txt"), stats);
 }
