@@ -63,7 +63,7 @@ struct EmbreeScene::Impl {
   }
 };
 
-EmbreeScene::EmbreeScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+EmbreeScene::EmbreeScene(const Scene& scene, bool shadow_alpha) : impl_(std::make_unique<Impl>()) {
   const auto start = std::chrono::steady_clock::now();
   g_embree_peak = g_embree_bytes.load();
   const int64_t base_bytes = g_embree_bytes.load();
@@ -122,7 +122,7 @@ EmbreeScene::EmbreeScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
       for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);
       rtcSetGeometryUserData(g, const_cast<LeafShape*>(lq.shapes.data()));
       rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter);
-      rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter);
+      if (shadow_alpha) rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter);
       rtcCommitGeometry(g);
       leaf_id = rtcAttachGeometry(s, g);
       rtcReleaseGeometry(g);

@@ -30,7 +30,9 @@ struct EmbreeStats {
 class EmbreeScene {
  public:
   // Builds the BVHs. `scene` must outlive this object (leaf shapes are read from it in filters).
-  explicit EmbreeScene(const Scene& scene);
+  // `shadow_alpha` false is fault injection for the golden power tests: shadow rays ignore the
+  // leaf outlines.
+  explicit EmbreeScene(const Scene& scene, bool shadow_alpha = true);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

@@ -84,7 +84,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
     ++rays;
     if (!embree_.intersect(ray, &hit)) {
       const SampledSpectrum le = environment_.eval(ray.direction, wl);
-      if (depth == 0 || settings_.debug_no_mis) {
+      if (depth == 0 || settings_.fault_mis_weight_one) {
         L += beta * le;
       } else {
         L += beta * le * power_heuristic(prev_pdf, environment_.pdf(ray.direction));
@@ -123,7 +123,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
           const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
           if (!is_black(f) && ++rays && !embree_.occluded(offset_ray_origin(si.p, transmits ? -ng : ng), ls.wi,
                                                std::numeric_limits<float>::infinity())) {
-            const float w = settings_.debug_no_mis ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
+            const float w = settings_.fault_mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
             L += beta * f * std::abs(wi_local.z) * ls.radiance * (w / ls.pdf);
           }
         }

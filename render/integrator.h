@@ -15,8 +15,9 @@ namespace sylva {
 struct IntegratorSettings {
   int max_depth = 16;        // scattering events per path
   int rr_start_depth = 3;    // Russian roulette from this bounce on
-  // Test hooks for the golden suite's power tests: each breaks the renderer on purpose.
-  bool debug_no_mis = false;            // NEE and BSDF sampling both weighted 1 (double counts)
+  // Fault injection for the golden suite's power tests (tests/scenes/test_golden.cpp), which
+  // prove that `sylva compare` catches a real regression. Never set in production renders.
+  bool fault_mis_weight_one = false;  // NEE and BSDF sampling both weighted 1 (double counts)
 };
 
 // A surface point as the integrator sees it (world space).

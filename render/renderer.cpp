@@ -23,7 +23,7 @@ Renderer::Renderer(const Scene& scene, RenderSettings settings) : scene_(scene),
       weights_.push_back(&b.weights[c]);
       weight_integrals_.push_back(static_cast<float>(b.weights[c].integral()));
     }
-  embree_ = std::make_unique<EmbreeScene>(scene_);
+  embree_ = std::make_unique<EmbreeScene>(scene_, !settings_.fault_no_shadow_alpha);
   environment_ = Environment(scene_.sun, scene_.sky);
   integrator_ = std::make_unique<Integrator>(scene_, *embree_, environment_, settings_.integrator);
   camera_ = Camera(scene_.camera, settings_.width, settings_.height);

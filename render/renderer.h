@@ -28,6 +28,7 @@ struct RenderSettings {
   int tile_size = 16;
   std::vector<Band> bands;   // at least one
   IntegratorSettings integrator;
+  bool fault_no_shadow_alpha = false;  // fault injection (golden power tests): see EmbreeScene
   bool progress = true;      // progress bar on stderr (only when stderr is a terminal)
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;

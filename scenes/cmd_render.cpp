@@ -77,9 +77,7 @@ int run_render(const RenderOptions& opt) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   SceneFile file = opt.scene.empty() ? default_scene() : load_scene_file(opt.scene);
-  RenderSettings settings;
-  settings.width = file.render.width;
-  settings.height = file.render.height;
+  RenderSettings settings = render_settings(file);
   if (!opt.res.empty()) {
     int w = 0, h = 0;
     char extra = 0;
@@ -88,12 +86,12 @@ int run_render(const RenderOptions& opt) {
     settings.width = w;
     settings.height = h;
   }
-  settings.spp = opt.spp > 0 ? opt.spp : file.render.spp;
-  settings.seed = opt.seed >= 0 ? static_cast<uint64_t>(opt.seed) : file.render.seed;
+  if (opt.spp > 0) settings.spp = opt.spp;
+  if (opt.seed >= 0) settings.seed = static_cast<uint64_t>(opt.seed);
   settings.threads = opt.threads;
-  settings.integrator.max_depth = opt.max_depth > 0 ? opt.max_depth : file.render.max_depth;
+  if (opt.max_depth > 0) settings.integrator.max_depth = opt.max_depth;
   const std::vector<std::string> band_names = opt.bands.empty() ? file.render.bands : split_list(opt.bands);
-  settings.bands = resolve_bands(file, band_names);
+  if (!opt.bands.empty()) settings.bands = resolve_bands(file, band_names);
   settings.progress = !opt.quiet;
 
   std::filesystem::path exr = !opt.exr.empty() ? std::filesystem::path(opt.exr) : file.output.exr;
@@ -154,19 +152,7 @@ int run_render(const RenderOptions& opt) {
   std::signal(SIGTERM, SIG_DFL);
 
   Image image = renderer.make_image(film);
-  image.set_attribute("sylva:version", SYLVA_VERSION);
-  image.set_attribute("sylva:spp", std::to_string(settings.spp));
-  image.set_attribute("sylva:seed", std::to_string(settings.seed));
-  image.set_attribute("sylva:scene", file.path.empty() ? "<default scene>" : file.path.string());
-  image.set_attribute("sylva:scene_hash", file.content_hash);
-  image.set_attribute("sylva:max_depth", std::to_string(settings.integrator.max_depth));
-  std::string bands;
-  for (const auto& b : band_names) bands += (bands.empty() ? "" : ",") + b;
-  image.set_attribute("sylva:bands", bands);
-  image.set_attribute("sylva:units",
-                      "band channels: SRF-weighted mean spectral radiance, W m^-2 sr^-1 nm^-1; R,G,B: CIE 1931 XYZ "
-                      "(Y = luminance-weighted mean spectral radiance) in linear Rec.709 primaries; var.*: variance "
-                      "of the pixel mean; Z: camera-space depth, m");
+  annotate_render(image, file, settings);
   write_exr(exr, image);
 
   if (!png.empty()) {

@@ -15,5 +15,6 @@ CommandRun add_render_command(CLI::App& parent);
 CommandRun add_compare_command(CLI::App& parent);
 CommandRun add_tree_command(CLI::App& parent);
 CommandRun add_export_command(CLI::App& parent);
+CommandRun add_golden_command(CLI::App& parent);
 
 }  // namespace sylva

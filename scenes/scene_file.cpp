@@ -458,4 +458,31 @@ std::vector<Band> resolve_bands(const SceneFile& file, const std::vector<std::st
   return bands;
 }
 
+RenderSettings render_settings(const SceneFile& file) {
+  RenderSettings s;
+  s.width = file.render.width;
+  s.height = file.render.height;
+  s.spp = file.render.spp;
+  s.seed = file.render.seed;
+  s.integrator.max_depth = file.render.max_depth;
+  s.bands = resolve_bands(file, file.render.bands);
+  return s;
+}
+
+void annotate_render(Image& image, const SceneFile& file, const RenderSettings& settings) {
+  image.set_attribute("sylva:version", SYLVA_VERSION);
+  image.set_attribute("sylva:spp", std::to_string(settings.spp));
+  image.set_attribute("sylva:seed", std::to_string(settings.seed));
+  image.set_attribute("sylva:scene", file.path.empty() ? "<default scene>" : file.path.filename().string());
+  image.set_attribute("sylva:scene_hash", file.content_hash);
+  image.set_attribute("sylva:max_depth", std::to_string(settings.integrator.max_depth));
+  std::string bands;
+  for (const Band& b : settings.bands) bands += (bands.empty() ? "" : ",") + b.name;
+  image.set_attribute("sylva:bands", bands);
+  image.set_attribute("sylva:units",
+                      "band channels: SRF-weighted mean spectral radiance, W m^-2 sr^-1 nm^-1; R,G,B: CIE 1931 XYZ "
+                      "(Y = luminance-weighted mean spectral radiance) in linear Rec.709 primaries; var.*: variance "
+                      "of the pixel mean; Z: camera-space depth, m");
+}
+
 }  // namespace sylva

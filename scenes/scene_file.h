@@ -4,6 +4,8 @@
 // docs/scene_format.md. Every mistake is reported as `file:line: what was expected`.
 
 #include "core/band.h"
+#include "core/image.h"
+#include "render/renderer.h"
 #include "render/scene.h"
 
 #include <cstdint>
@@ -50,5 +52,12 @@ SceneFile default_scene();
 
 // Resolves band names against the file's custom bands, then the built-in ones.
 std::vector<Band> resolve_bands(const SceneFile& file, const std::vector<std::string>& names);
+
+// The render settings the file asks for (resolution, spp, seed, depth, its bands).
+RenderSettings render_settings(const SceneFile& file);
+
+// Records what produced an image in its header: sylva:version, spp, seed, scene, scene_hash,
+// max_depth, bands (names of `settings.bands`) and units.
+void annotate_render(Image& image, const SceneFile& file, const RenderSettings& settings);
 
 }  // namespace sylva
