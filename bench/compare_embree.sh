@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Path samples per second of Sylva against Embree's own `pathtracer` tutorial on the same scene.
+#
+#   bench/compare_embree.sh SYLVA [SCENE.toml] [--res WxH] [--threads N] [--frames N] [--pathtracer PATH]
+#
+# SYLVA is a built `sylva` binary (this script builds nothing). Without SCENE the built-in default
+# scene is used. The scene is exported with `sylva export` to one world-space OBJ (leaf quads as two
+# full triangles each; the tutorial has no alpha cut-outs) plus the tutorial's camera and light
+# options, then rendered by
+#   pathtracer -i scene.obj --size W H --spp 1 --benchmark 4 N --legacy --threads T <camera, lights>
+# (4 warm-up frames, N timed frames of one path per pixel), and by
+#   sylva render SCENE --res WxH --spp N --seed 1 --threads T
+# (N samples per pixel in one pass: the same number of paths per pixel as the N timed frames).
+#
+# A "sample" is one camera path in both: for the tutorial, samples/s = W·H·spp·fps with spp = 1
+# and fps its BENCHMARK_RENDER_AVG; its BENCHMARK_RENDER_MRAYPS_AVG counts every ray it traces
+# (closest-hit and shadow). For Sylva, one sample is one path carrying 4 hero wavelengths; rays/s
+# counts closest-hit and shadow rays. Both figures come from the renderers' own clocks (render loop
+# only, no scene load, BVH build or image output). Ratio = Sylva samples/s ÷ pathtracer samples/s.
+# Reproducible: fixed seed and resolution, an explicit thread count (default 2) for both.
+set -euo pipefail
+
+usage() { sed -n '4p' "$0" | sed 's/^# *//' >&2; exit 2; }
+[[ $# -ge 1 ]] || usage
+sylva=$1
+shift
+scene=""
+res=640x360
+threads=2
+frames=20
+pathtracer=pathtracer
+while [[ $# -gt 0 ]]; do
+  case $1 in
+    --res) res=$2; shift 2 ;;
+    --threads) threads=$2; shift 2 ;;
+    --frames) frames=$2; shift 2 ;;
+    --pathtracer) pathtracer=$2; shift 2 ;;
+    -h|--help) usage ;;
+    -*) echo "compare_embree: unknown option $1" >&2; usage ;;
+    *) scene=$1; shift ;;
+  esac
+done
+[[ -x $sylva ]] || { echo "compare_embree: $sylva is not an executable (build the sylva target first)" >&2; exit 2; }
+command -v "$pathtracer" >/dev/null ||
+  { echo "compare_embree: no '$pathtracer' (Debian: embree-tools; cmake/install-deps.sh --bench)" >&2; exit 2; }
+[[ $res =~ ^([0-9]+)x([0-9]+)$ ]] || { echo "compare_embree: --res expects WxH, not '$res'" >&2; exit 2; }
+width=${BASH_REMATCH[1]}
+height=${BASH_REMATCH[2]}
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/sylva-compare.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+echo "machine: $(nproc) threads, $(lscpu | sed -n 's/^Model name: *//p' | head -1); load average: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "scene: ${scene:-<default scene>}, ${width}x${height}, $threads threads, $frames paths per pixel"
+
+# 1. Export: the OBJ, and the camera/light options on stdout.
+read -r -a view < <("$sylva" export ${scene:+"$scene"} --obj "$work/scene.obj" --res "$res" -q)
+
+# 2. Embree's pathtracer tutorial.
+"$pathtracer" -i "$work/scene.obj" "${view[@]}" --spp 1 --benchmark 4 "$frames" --legacy --threads "$threads" \
+  >"$work/embree.log" 2>&1 || { cat "$work/embree.log" >&2; exit 1; }
+fps=$(sed -n 's/^BENCHMARK_RENDER_AVG //p' "$work/embree.log")
+mrays=$(sed -n 's/^BENCHMARK_RENDER_MRAYPS_AVG //p' "$work/embree.log")
+[[ -n $fps ]] || { echo "compare_embree: no BENCHMARK_RENDER_AVG in pathtracer output:" >&2; cat "$work/embree.log" >&2; exit 1; }
+
+# 3. Sylva, same size, same paths per pixel, fixed seed.
+"$sylva" render ${scene:+"$scene"} -o "$work/sylva.exr" --res "$res" --spp "$frames" --seed 1 --threads "$threads" \
+  --checkpoint-minutes 0 >"$work/sylva.log" 2>&1 || { cat "$work/sylva.log" >&2; exit 1; }
+summary=$(grep 'M samples/s' "$work/sylva.log" | tail -1)
+[[ $summary =~ ([0-9.]+)\ M\ samples/s,\ ([0-9.]+)\ M\ rays/s ]] ||
+  { echo "compare_embree: no throughput line in sylva output:" >&2; cat "$work/sylva.log" >&2; exit 1; }
+sylva_msps=${BASH_REMATCH[1]}
+sylva_mrays=${BASH_REMATCH[2]}
+
+awk -v w="$width" -v h="$height" -v fps="$fps" -v mrays="${mrays:-nan}" -v sms="$sylva_msps" -v smr="$sylva_mrays" 'BEGIN {
+  ems = w * h * fps / 1e6
+  printf "%-22s %12s %12s %12s\n", "", "M samples/s", "M rays/s", "rays/sample"
+  printf "%-22s %12.3f %12.3f %12.2f\n", "embree pathtracer", ems, mrays, mrays / ems
+  printf "%-22s %12.3f %12.3f %12.2f\n", "sylva", sms, smr, smr / sms
+  printf "ratio (sylva / embree pathtracer): samples/s %.3f, rays/s %.3f\n", sms / ems, smr / mrays
+}'
