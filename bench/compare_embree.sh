@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Path samples per second of Sylva against Embree's own `pathtracer` tutorial on the same scene.
 #
-#   bench/compare_embree.sh SYLVA [SCENE.toml] [--res WxH] [--threads N] [--frames N] [--pathtracer PATH]
+#   bench/compare_embree.sh SYLVA [SCENE.toml] [--res WxH] [--threads N] [--frames N] [--max-path-length N]
+#                           [--pathtracer PATH]
 #
 # SYLVA is a built `sylva` binary (this script builds nothing). Without SCENE the built-in default
 # scene is used. The scene is exported with `sylva export` to one world-space OBJ (leaf quads as two
 # full triangles each; the tutorial has no alpha cut-outs) plus the tutorial's camera and light
 # options, then rendered by
 #   pathtracer -i scene.obj --size W H --spp 1 --benchmark 4 N --legacy --threads T <camera, lights>
-# (4 warm-up frames, N timed frames of one path per pixel), and by
+# (4 warm-up frames, N timed frames of one path per pixel; the tutorial's default maximum path
+# length is 8, --max-path-length passes another, e.g. 16 = Sylva's default max_depth), and by
 #   sylva render SCENE --res WxH --spp N --seed 1 --threads T
 # (N samples per pixel in one pass: the same number of paths per pixel as the N timed frames).
 #
@@ -20,7 +22,7 @@
 # Reproducible: fixed seed and resolution, an explicit thread count (default 2) for both.
 set -euo pipefail
 
-usage() { sed -n '4p' "$0" | sed 's/^# *//' >&2; exit 2; }
+usage() { sed -n '4,5p' "$0" | sed 's/^# *//' >&2; exit 2; }
 [[ $# -ge 1 ]] || usage
 sylva=$1
 shift
@@ -29,12 +31,14 @@ res=640x360
 threads=2
 frames=20
 pathtracer=pathtracer
+embree_extra=()
 while [[ $# -gt 0 ]]; do
   case $1 in
     --res) res=$2; shift 2 ;;
     --threads) threads=$2; shift 2 ;;
     --frames) frames=$2; shift 2 ;;
     --pathtracer) pathtracer=$2; shift 2 ;;
+    --max-path-length) embree_extra+=(--max-path-length "$2"); shift 2 ;;
     -h|--help) usage ;;
     -*) echo "compare_embree: unknown option $1" >&2; usage ;;
     *) scene=$1; shift ;;
@@ -51,13 +55,13 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/sylva-compare.XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
 echo "machine: $(nproc) threads, $(lscpu | sed -n 's/^Model name: *//p' | head -1); load average: $(cut -d' ' -f1-3 /proc/loadavg)"
-echo "scene: ${scene:-<default scene>}, ${width}x${height}, $threads threads, $frames paths per pixel"
+echo "scene: ${scene:-<default scene>}, ${width}x${height}, $threads threads, $frames paths per pixel${embree_extra[*]:+, pathtracer ${embree_extra[*]}}"
 
 # 1. Export: the OBJ, and the camera/light options on stdout.
 read -r -a view < <("$sylva" export ${scene:+"$scene"} --obj "$work/scene.obj" --res "$res" -q)
 
 # 2. Embree's pathtracer tutorial.
-"$pathtracer" -i "$work/scene.obj" "${view[@]}" --spp 1 --benchmark 4 "$frames" --legacy --threads "$threads" \
+"$pathtracer" -i "$work/scene.obj" "${view[@]}" "${embree_extra[@]}" --spp 1 --benchmark 4 "$frames" --legacy --threads "$threads" \
   >"$work/embree.log" 2>&1 || { cat "$work/embree.log" >&2; exit 1; }
 fps=$(sed -n 's/^BENCHMARK_RENDER_AVG //p' "$work/embree.log")
 mrays=$(sed -n 's/^BENCHMARK_RENDER_MRAYPS_AVG //p' "$work/embree.log")
