@@ -28,8 +28,7 @@ OCIO::ConstConfigRcPtr load_config(const std::filesystem::path& config) {
     OCIO::ConstConfigRcPtr loaded = OCIO::Config::CreateFromFile(path.c_str());
     loaded->validate();
     if (loaded->getNumViews(std::string(preview_display).c_str()) == 0)
-      throw Error(path.string() + ": OCIO config has no display \"" + std::string(preview_display) +
-                  "\"");
+      throw Error(path.string() + ": OCIO config has no display \"" + std::string(preview_display) + "\"");
     cache.emplace(path, loaded);
     return loaded;
   } catch (const OCIO::Exception& e) {
@@ -45,8 +44,7 @@ std::vector<std::string> ocio_views(const std::filesystem::path& config) {
   const OCIO::ConstConfigRcPtr cfg = load_config(config);
   const std::string display(preview_display);
   std::vector<std::string> views;
-  for (int i = 0; i < cfg->getNumViews(display.c_str()); ++i)
-    views.emplace_back(cfg->getView(display.c_str(), i));
+  for (int i = 0; i < cfg->getNumViews(display.c_str()); ++i) views.emplace_back(cfg->getView(display.c_str(), i));
   return views;
 }
 
@@ -60,8 +58,7 @@ void apply_display_transform(float* rgb, size_t pixel_count, std::string_view vi
     known = known || v == view;
     list += (list.empty() ? "" : ", ") + v;
   }
-  if (!known)
-    throw Error("unknown preview view \"" + std::string(view) + "\" (available: " + list + ")");
+  if (!known) throw Error("unknown preview view \"" + std::string(view) + "\" (available: " + list + ")");
   if (pixel_count == 0) return;
   try {
     OCIO::DisplayViewTransformRcPtr transform = OCIO::DisplayViewTransform::Create();

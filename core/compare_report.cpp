@@ -23,11 +23,8 @@ struct PreviewItem {
   std::vector<size_t> result_channels;  // indices into CompareResult::channels / error planes
   int64_t tested = 0, rejected = 0;
   bool bias_failed = false;
-  bool radiometric =
-      true;  // z-test/threshold channels shown as is; others mapped from the reference range
-  double share() const {
-    return tested > 0 ? static_cast<double>(rejected) / static_cast<double>(tested) : 0.0;
-  }
+  bool radiometric = true;  // z-test/threshold channels shown as is; others mapped from the reference range
+  double share() const { return tested > 0 ? static_cast<double>(rejected) / static_cast<double>(tested) : 0.0; }
   bool failing() const { return rejected > 0 || bias_failed; }
 };
 
@@ -85,8 +82,7 @@ std::vector<PreviewItem> make_items(const CompareResult& result) {
       item.tested += c.tested;
       item.rejected += c.rejected;
       item.bias_failed = item.bias_failed || c.bias_failed || c.tile_failed;
-      item.radiometric =
-          item.radiometric && (c.test == ChannelTest::ZTest || c.test == ChannelTest::Threshold);
+      item.radiometric = item.radiometric && (c.test == ChannelTest::ZTest || c.test == ChannelTest::Threshold);
     }
     items.push_back(std::move(item));
   };
@@ -104,8 +100,7 @@ std::vector<PreviewItem> make_items(const CompareResult& result) {
       item.slug = slugify(item.label);
       for (size_t k = 0; k < 3; ++k) item.channels[k] = result.channels[found[k]].name;
       item.result_channels = found;
-      std::erase_if(
-          rest, [&](size_t i) { return std::find(found.begin(), found.end(), i) != found.end(); });
+      std::erase_if(rest, [&](size_t i) { return std::find(found.begin(), found.end(), i) != found.end(); });
       add(std::move(item));
     }
     for (size_t i : rest) {
@@ -142,8 +137,7 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
-    throw Error(dir.string() + ": cannot create report directory" +
-                (ec ? ": " + ec.message() : ""));
+    throw Error(dir.string() + ": cannot create report directory" + (ec ? ": " + ec.message() : ""));
 
   write_exr(dir / "test.exr", test);
   write_exr(dir / "ref.exr", ref);
@@ -200,20 +194,17 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
     std::vector<uint8_t> reject_rgb(ref_rgb.size());
     for (int y = 0; y < ref.height; ++y)
       for (int x = 0; x < ref.width; ++x) {
-        const size_t p =
-            static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
+        const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
         bool rejected = false;
         for (size_t i : item.result_channels) {
           const ChannelReport& c = result.channels[i];
           const float e = result.error.at(x, y, static_cast<int>(i));
-          rejected = rejected ||
-                     (c.test == ChannelTest::ZTest   ? (!std::isfinite(e) || e > result.z_critical)
-                      : c.test == ChannelTest::Exact ? e > 0.0f
-                                                     : (!std::isfinite(e) || e > 1.0f));
+          rejected = rejected || (c.test == ChannelTest::ZTest   ? (!std::isfinite(e) || e > result.z_critical)
+                                  : c.test == ChannelTest::Exact ? e > 0.0f
+                                                                 : (!std::isfinite(e) || e > 1.0f));
         }
         for (size_t k = 0; k < 3; ++k)
-          reject_rgb[p * 3 + k] =
-              rejected ? (k == 0 ? 255 : 0) : static_cast<uint8_t>(ref_rgb[p * 3 + k] * 2 / 5);
+          reject_rgb[p * 3 + k] = rejected ? (k == 0 ? 255 : 0) : static_cast<uint8_t>(ref_rgb[p * 3 + k] * 2 / 5);
       }
     // Tiles failing the local mean-bias test get a yellow outline.
     for (size_t i : item.result_channels) {
@@ -224,8 +215,7 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
       for (int y = c.tile_y; y <= y1; ++y)
         for (int x = c.tile_x; x <= x1; ++x)
           if (x == c.tile_x || x == x1 || y == c.tile_y || y == y1) {
-            const size_t p =
-                static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
+            const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
             reject_rgb[p * 3 + 0] = 255;
             reject_rgb[p * 3 + 1] = 220;
             reject_rgb[p * 3 + 2] = 0;
@@ -238,60 +228,55 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
   std::string h;
   const char* verdict = result.passed ? "PASS" : "FAIL";
   h += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
-  h += fmt::format("<title>sylva compare: {} — {}</title>\n", verdict,
-                   html_escape(options.test_label));
-  h +=
-      "<style>\n"
-      "body{font-family:sans-serif;margin:1.5em;background:#1e1e1e;color:#ddd}\n"
-      "a{color:#8cf} table{border-collapse:collapse;margin:0.5em 0}\n"
-      "td,th{padding:0.2em 0.7em;border-bottom:1px solid #444;text-align:right}\n"
-      "td:first-child,th:first-child{text-align:left}\n"
-      ".fail{color:#ff6b6b;font-weight:bold} .pass{color:#7ddc7d;font-weight:bold}\n"
-      ".row{display:flex;flex-wrap:wrap;gap:1em} figure{margin:0}\n"
-      "figure img{image-rendering:pixelated;min-width:256px;border:1px solid #555}\n"
-      "figcaption{font-size:0.85em;color:#aaa} pre{background:#111;padding:0.7em;overflow-x:auto}\n"
-      "</style>\n</head>\n<body>\n";
+  h += fmt::format("<title>sylva compare: {} — {}</title>\n", verdict, html_escape(options.test_label));
+  h += "<style>\n"
+       "body{font-family:sans-serif;margin:1.5em;background:#1e1e1e;color:#ddd}\n"
+       "a{color:#8cf} table{border-collapse:collapse;margin:0.5em 0}\n"
+       "td,th{padding:0.2em 0.7em;border-bottom:1px solid #444;text-align:right}\n"
+       "td:first-child,th:first-child{text-align:left}\n"
+       ".fail{color:#ff6b6b;font-weight:bold} .pass{color:#7ddc7d;font-weight:bold}\n"
+       ".row{display:flex;flex-wrap:wrap;gap:1em} figure{margin:0}\n"
+       "figure img{image-rendering:pixelated;min-width:256px;border:1px solid #555}\n"
+       "figcaption{font-size:0.85em;color:#aaa} pre{background:#111;padding:0.7em;overflow-x:auto}\n"
+       "</style>\n</head>\n<body>\n";
   h += fmt::format("<h1>sylva compare: <span class=\"{}\" id=\"verdict\">{}</span></h1>\n",
                    result.passed ? "pass" : "fail", verdict);
-  h += fmt::format(
-      "<p>Test <code>{}</code> against reference <code>{}</code>, {}&times;{} pixels.</p>\n",
-      html_escape(options.test_label), html_escape(options.ref_label), result.width, result.height);
-  if (!options.command.empty())
-    h += fmt::format("<p><code>{}</code></p>\n", html_escape(options.command));
+  h += fmt::format("<p>Test <code>{}</code> against reference <code>{}</code>, {}&times;{} pixels.</p>\n",
+                   html_escape(options.test_label), html_escape(options.ref_label), result.width, result.height);
+  if (!options.command.empty()) h += fmt::format("<p><code>{}</code></p>\n", html_escape(options.command));
   if (result.threshold_mode)
     h += fmt::format(
         "<p>Threshold test (Cycles/idiff style): failing pixels <b>{}</b> ({} of {}), limit "
         "{}.</p>\n",
-        format_share(result.reject_fraction), result.failing_pixels,
-        static_cast<int64_t>(result.width) * result.height, format_share(result.limit));
+        format_share(result.reject_fraction), result.failing_pixels, static_cast<int64_t>(result.width) * result.height,
+        format_share(result.limit));
   else
     h += fmt::format(
         "<p>Per-pixel z-test: rejecting pixel-channels <b>{}</b> ({} of {}), limit {}; per "
         "pixel-channel &alpha; = {:.3g} (Šidák), |z| &gt; {:.3f}; mean-bias |z| &gt; "
         "{:.3f}{}.</p>\n",
-        format_share(result.reject_fraction), result.rejected, result.tested,
-        format_share(result.limit), result.alpha_pixel, result.z_critical, result.bias_z_critical,
-        result.bias_tile > 0 ? fmt::format(", per {0}&times;{0} tile |z| &gt; {1:.3f}",
-                                           result.bias_tile, result.tile_z_critical)
-                             : std::string());
+        format_share(result.reject_fraction), result.rejected, result.tested, format_share(result.limit),
+        result.alpha_pixel, result.z_critical, result.bias_z_critical,
+        result.bias_tile > 0
+            ? fmt::format(", per {0}&times;{0} tile |z| &gt; {1:.3f}", result.bias_tile, result.tile_z_critical)
+            : std::string());
   if (result.worst.x >= 0)
     h += fmt::format(
         "<p>Worst pixel ({}, {}) channel <code>{}</code>: test {:.6g}, reference {:.6g}, {} "
         "{:.4g}, p "
         "{:.3g}.</p>\n",
-        result.worst.x, result.worst.y, html_escape(result.worst.channel), result.worst.test,
-        result.worst.ref, result.threshold_mode ? "d/T" : "z", result.worst.z, result.worst.p);
+        result.worst.x, result.worst.y, html_escape(result.worst.channel), result.worst.test, result.worst.ref,
+        result.threshold_mode ? "d/T" : "z", result.worst.z, result.worst.p);
 
   // Channels, failing first.
   std::vector<const ChannelReport*> channels;
   for (const ChannelReport& c : result.channels) channels.push_back(&c);
-  std::stable_sort(channels.begin(), channels.end(),
-                   [](const ChannelReport* a, const ChannelReport* b) {
-                     const bool fa = a->rejected > 0 || a->bias_failed || a->tile_failed;
-                     const bool fb = b->rejected > 0 || b->bias_failed || b->tile_failed;
-                     if (fa != fb) return fa;
-                     return a->reject_fraction() > b->reject_fraction();
-                   });
+  std::stable_sort(channels.begin(), channels.end(), [](const ChannelReport* a, const ChannelReport* b) {
+    const bool fa = a->rejected > 0 || a->bias_failed || a->tile_failed;
+    const bool fb = b->rejected > 0 || b->bias_failed || b->tile_failed;
+    if (fa != fb) return fa;
+    return a->reject_fraction() > b->reject_fraction();
+  });
   h += "<h2>Channels</h2>\n<table "
        "id=\"channels\">\n<tr><th>channel</th><th>test</th><th>rejected</th><th>share</th>"
        "<th>mean rel. diff</th><th>mean |rel. diff|</th><th>max |diff|</th><th>bias "
@@ -305,15 +290,14 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
     h += fmt::format(
         "<tr class=\"{}\"><td>{}</td><td>{}</td><td>{} / {}</td><td>{}</td><td>{:+.4g}%</td>"
         "<td>{:.4g}%</td><td>{:.4g}</td><td>{}</td><td>{}</td></tr>\n",
-        failing ? "fail" : "", html_escape(c->name), mode, c->rejected, c->tested,
-        format_share(c->reject_fraction()), 100.0 * c->mean_rel_diff, 100.0 * c->mean_abs_rel_diff,
-        c->max_abs_diff,
+        failing ? "fail" : "", html_escape(c->name), mode, c->rejected, c->tested, format_share(c->reject_fraction()),
+        100.0 * c->mean_rel_diff, 100.0 * c->mean_abs_rel_diff, c->max_abs_diff,
         c->test == ChannelTest::ZTest && std::isfinite(result.bias_z_critical)
             ? fmt::format("{:+.2f}{}", c->bias_z, c->bias_failed ? " (fails)" : "")
             : std::string("&ndash;"),
-        c->tile_x >= 0 ? fmt::format("{:+.2f}{} at ({}, {})", c->tile_z,
-                                     c->tile_failed ? " (fails)" : "", c->tile_x, c->tile_y)
-                       : std::string("&ndash;"));
+        c->tile_x >= 0
+            ? fmt::format("{:+.2f}{} at ({}, {})", c->tile_z, c->tile_failed ? " (fails)" : "", c->tile_x, c->tile_y)
+            : std::string("&ndash;"));
   }
   h += "</table>\n";
   if (!result.skipped.empty()) {
@@ -322,8 +306,7 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
     h += fmt::format("<p>Not compared (no variance, no tolerance): {}.</p>\n", list);
   }
   if (!result.variance_model.empty())
-    h +=
-        fmt::format("<p>Variance of the difference: {}.</p>\n", html_escape(result.variance_model));
+    h += fmt::format("<p>Variance of the difference: {}.</p>\n", html_escape(result.variance_model));
 
   // Images, failing groups first.
   h += fmt::format(
@@ -336,9 +319,8 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
     h += fmt::format(
         "<section class=\"item\" id=\"item-{}\">\n<h3>{} <span class=\"{}\">{}</span> &mdash; {} "
         "rejected ({} of {}){}</h3>\n<div class=\"row\">\n",
-        item.slug, html_escape(item.label), item.failing() ? "fail" : "pass",
-        item.failing() ? "FAIL" : "pass", format_share(item.share()), item.rejected, item.tested,
-        item.bias_failed ? ", mean bias" : "");
+        item.slug, html_escape(item.label), item.failing() ? "fail" : "pass", item.failing() ? "FAIL" : "pass",
+        format_share(item.share()), item.rejected, item.tested, item.bias_failed ? ", mean bias" : "");
     const std::array<std::pair<const char*, std::string>, 4> figures{
         std::pair{"_test.png", "test"}, std::pair{"_ref.png", "reference"},
         std::pair{"_diff.png", fmt::format("|diff| &times; {:g}", options.diff_scale)},
@@ -355,8 +337,7 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
        "<a href=\"error.exr\">error.exr</a> (|z| per channel, reject.Y mask) &middot; <a "
        "href=\"pvalue.exr\">"
        "pvalue.exr</a></p>\n";
-  h += "<h2>Summary</h2>\n<pre>" + html_escape(format_compare_summary(result)) +
-       "</pre>\n</body>\n</html>\n";
+  h += "<h2>Summary</h2>\n<pre>" + html_escape(format_compare_summary(result)) + "</pre>\n</body>\n</html>\n";
   write_text_file(dir / "index.html", h);
 }
 

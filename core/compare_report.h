@@ -21,11 +21,11 @@
 namespace sylva {
 
 struct ReportOptions {
-  float diff_scale = 16.0f;  // k in |diff|×k (Blender's render tests use idiff -abs -scale 16)
+  float diff_scale = 16.0f;       // k in |diff|×k (Blender's render tests use idiff -abs -scale 16)
   std::string view = "Standard";  // OCIO view of the previews (color.h)
   float exposure_ev = 0.0f;       // exposure of the radiometric previews (test, reference, |diff|)
   std::string test_label = "test", ref_label = "reference";  // shown in the HTML (e.g. file paths)
-  std::string command;  // the command line, shown in the HTML when set
+  std::string command;                                       // the command line, shown in the HTML when set
 };
 
 void write_compare_report(const std::filesystem::path& dir, const Image& test, const Image& ref,

@@ -32,8 +32,7 @@ OIIO::TypeDesc storage_type(PixelType type) {
 
 // Runs `write(temporary)` and renames the temporary over `path`; on any failure the temporary is
 // removed and a sylva::Error("path: why") is thrown.
-void write_atomically(const std::filesystem::path& path,
-                      const std::function<void(const std::string&)>& write) {
+void write_atomically(const std::filesystem::path& path, const std::function<void(const std::string&)>& write) {
   const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
   auto discard = [&] {
     std::error_code ignored;
@@ -99,18 +98,16 @@ Image make_image(int width, int height, std::vector<std::string> channels, Pixel
   image.height = height;
   image.types.assign(channels.size(), type);
   image.channels = std::move(channels);
-  image.pixels.assign(
-      static_cast<size_t>(width) * static_cast<size_t>(height) * image.channels.size(), 0.0f);
+  image.pixels.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * image.channels.size(), 0.0f);
   return image;
 }
 
 void write_exr(const std::filesystem::path& path, const Image& image) {
   const int nc = image.channel_count();
-  if (image.width <= 0 || image.height <= 0 || nc == 0)
-    throw Error(path.string() + ": cannot write an empty image");
-  if (image.types.size() != image.channels.size() ||
-      image.pixels.size() != static_cast<size_t>(image.width) * static_cast<size_t>(image.height) *
-                                 image.channels.size())
+  if (image.width <= 0 || image.height <= 0 || nc == 0) throw Error(path.string() + ": cannot write an empty image");
+  if (image.types.size() != image.channels.size() || image.pixels.size() != static_cast<size_t>(image.width) *
+                                                                                static_cast<size_t>(image.height) *
+                                                                                image.channels.size())
     throw Error(path.string() + ": inconsistent image (channels, types and pixels disagree)");
 
   OIIO::ImageSpec spec(image.width, image.height, nc, OIIO::TypeDesc::FLOAT);
@@ -125,8 +122,7 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   spec.attribute("DateTime", "");
   for (const auto& [key, value] : image.attributes) spec.attribute(key, value);
   if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0)
-    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8),
-                   rec709_chromaticities.data());
+    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709_chromaticities.data());
 
   // Native per-channel layout: OIIO would treat integer formats as normalised if asked to convert
   // floats, so the pixels are packed here in each channel's own type.
@@ -152,8 +148,7 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
           break;
         }
         case PixelType::UInt: {
-          const uint32_t u =
-              std::isfinite(v) && v > 0.0f ? static_cast<uint32_t>(std::lround(v)) : 0u;
+          const uint32_t u = std::isfinite(v) && v > 0.0f ? static_cast<uint32_t>(std::lround(v)) : 0u;
           std::memcpy(dst, &u, sizeof u);
           break;
         }
@@ -166,8 +161,7 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
     if (!out->open(tmp, spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
     const bool ok = out->write_image(OIIO::TypeDesc::UNKNOWN, packed.data());
     const std::string write_error = ok ? "" : out->geterror();
-    if (!out->close() || !ok)
-      throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
+    if (!out->close() || !ok) throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
   });
 }
 
@@ -196,8 +190,7 @@ Image read_exr(const std::filesystem::path& path) {
   }
   for (const OIIO::ParamValue& p : spec.extra_attribs) {
     const std::string name = p.name().string();
-    if (p.type() != OIIO::TypeString || name == "compression" || name.rfind("oiio:", 0) == 0)
-      continue;
+    if (p.type() != OIIO::TypeString || name == "compression" || name.rfind("oiio:", 0) == 0) continue;
     const std::string value = p.get_string();
     if (name == "DateTime" && value.empty()) continue;  // written by write_exr for determinism
     image.attributes.emplace_back(name, value);
@@ -206,8 +199,7 @@ Image read_exr(const std::filesystem::path& path) {
   // Read each channel in its native type (32-bit ids must not be normalised).
   const size_t data_count = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   const size_t nc = image.channels.size();
-  image.pixels.assign(static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * nc,
-                      0.0f);
+  image.pixels.assign(static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * nc, 0.0f);
   std::vector<float> plane(data_count);
   std::vector<uint32_t> ids;
   for (size_t c = 0; c < nc; ++c) {
@@ -220,23 +212,18 @@ Image read_exr(const std::filesystem::path& path) {
     } else {
       ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::FLOAT, plane.data());
     }
-    if (!ok)
-      throw Error(path.string() + ": cannot read channel " + image.channels[c] + ": " +
-                  in->geterror());
+    if (!ok) throw Error(path.string() + ": cannot read channel " + image.channels[c] + ": " + in->geterror());
     for (int y = 0; y < spec.height; ++y)
       for (int x = 0; x < spec.width; ++x)
         if (x + x0 >= 0 && x + x0 < image.width && y + y0 >= 0 && y + y0 < image.height)
           image.at(x + x0, y + y0, ci) =
-              plane[static_cast<size_t>(y) * static_cast<size_t>(spec.width) +
-                    static_cast<size_t>(x)];
+              plane[static_cast<size_t>(y) * static_cast<size_t>(spec.width) + static_cast<size_t>(x)];
   }
   return image;
 }
 
-void write_png_rgb8(const std::filesystem::path& path, int width, int height,
-                    const std::vector<uint8_t>& rgb) {
-  if (width <= 0 || height <= 0 ||
-      rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
+void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
+  if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
     throw Error(path.string() + ": inconsistent PNG pixels");
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
@@ -246,8 +233,7 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height,
     if (!out->open(tmp, spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
     const bool ok = out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
     const std::string write_error = ok ? "" : out->geterror();
-    if (!out->close() || !ok)
-      throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
+    if (!out->close() || !ok) throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
   });
 }
 
@@ -255,8 +241,7 @@ std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions&
   int src[3];
   for (int i = 0; i < 3; ++i) {
     src[i] = image.find_channel(options.channels[static_cast<size_t>(i)]);
-    if (src[i] < 0)
-      throw Error("no channel \"" + options.channels[static_cast<size_t>(i)] + "\" to preview");
+    if (src[i] < 0) throw Error("no channel \"" + options.channels[static_cast<size_t>(i)] + "\" to preview");
   }
   const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
   const size_t nc = image.channels.size();
@@ -276,8 +261,7 @@ std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions&
   return bytes;
 }
 
-void write_png_preview(const std::filesystem::path& path, const Image& image,
-                       const PreviewOptions& options) {
+void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options) {
   std::vector<uint8_t> bytes;
   try {
     bytes = make_preview_rgb8(image, options);
@@ -292,8 +276,7 @@ void write_text_file(const std::filesystem::path& path, std::string_view text) {
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (f == nullptr) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
     const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !ok)
-      throw Error(path.string() + ": cannot write: " + std::strerror(errno));
+    if (std::fclose(f) != 0 || !ok) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
   });
 }
 

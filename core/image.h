@@ -42,20 +42,17 @@ struct Image {
 
  private:
   size_t index(int x, int y, int c) const {
-    return (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) *
-               channels.size() +
+    return (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * channels.size() +
            static_cast<size_t>(c);
   }
 };
 
 // A zero-filled image with every channel of one type.
-Image make_image(int width, int height, std::vector<std::string> channels,
-                 PixelType type = PixelType::Float);
+Image make_image(int width, int height, std::vector<std::string> channels, PixelType type = PixelType::Float);
 
 // The "chromaticities" written with R,G,B: linear Rec.709 / sRGB primaries, D65 white
 // (x,y of red, green, blue, white).
-inline constexpr std::array<float, 8> rec709_chromaticities{0.64f, 0.33f, 0.30f,   0.60f,
-                                                            0.15f, 0.06f, 0.3127f, 0.3290f};
+inline constexpr std::array<float, 8> rec709_chromaticities{0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f};
 
 // Writes OpenEXR (ZIP compression) with per-channel storage types, the string attributes, and the
 // Rec.709 chromaticities when R, G and B are present. Deterministic: the same image gives the same
@@ -83,14 +80,12 @@ struct PreviewOptions {
 std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions& options);
 
 // 8-bit sRGB PNG through an OCIO display transform of data/ocio/config.ocio. Atomic like write_exr.
-void write_png_preview(const std::filesystem::path& path, const Image& image,
-                       const PreviewOptions& options);
+void write_png_preview(const std::filesystem::path& path, const Image& image, const PreviewOptions& options);
 
 // Writes a text file (e.g. an HTML report) atomically like write_exr.
 void write_text_file(const std::filesystem::path& path, std::string_view text);
 
 // Writes 8-bit RGB pixels (width*height*3, top row first) as a PNG. Atomic like write_exr.
-void write_png_rgb8(const std::filesystem::path& path, int width, int height,
-                    const std::vector<uint8_t>& rgb);
+void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb);
 
 }  // namespace sylva

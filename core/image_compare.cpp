@@ -33,13 +33,10 @@ struct VarianceSource {
   const Image* image = nullptr;
   int channel = -1;
   explicit operator bool() const { return image != nullptr; }
-  double at(size_t pixel) const {
-    return image->pixels[pixel * image->channels.size() + static_cast<size_t>(channel)];
-  }
+  double at(size_t pixel) const { return image->pixels[pixel * image->channels.size() + static_cast<size_t>(channel)]; }
 };
 
-VarianceSource find_variance(const Image& image, const Image* companion,
-                             const std::string& channel) {
+VarianceSource find_variance(const Image& image, const Image* companion, const std::string& channel) {
   if (companion != nullptr) {
     if (int c = companion->find_channel(channel); c >= 0) return {companion, c};
     if (int c = companion->find_channel("var." + channel); c >= 0) return {companion, c};
@@ -68,15 +65,14 @@ struct ChannelPlan {
   int test_c = -1, ref_c = -1;
   double tolerance = 0.0;  // AbsTolerance / Threshold
   VarianceSource test_var, ref_var;
-  double test_var_scale = 0.0;  // estimate var_test as var_ref · this when only ref's is known
-  double ref_var_scale = 0.0;   // estimate var_ref as var_test · this when only test's is known
+  double test_var_scale = 0.0;           // estimate var_test as var_ref · this when only ref's is known
+  double ref_var_scale = 0.0;            // estimate var_ref as var_test · this when only test's is known
   double spp_test = 0.0, spp_ref = 0.0;  // both > 0: pool the per-sample variances
 };
 
 // Which channels are compared and how; fills result.skipped and result.variance_model.
-std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref,
-                                       const CompareOptions& options, const Image* test_var,
-                                       const Image* ref_var, CompareResult& result) {
+std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref, const CompareOptions& options,
+                                       const Image* test_var, const Image* ref_var, CompareResult& result) {
   auto is_var = [](const std::string& name) { return name.rfind("var.", 0) == 0; };
   auto require = [&](const std::string& name) {
     const bool in_test = test.find_channel(name) >= 0, in_ref = ref.find_channel(name) >= 0;
@@ -120,8 +116,7 @@ std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref,
 
   const std::optional<double> spp_test = spp_of(test), spp_ref = spp_of(ref);
   std::vector<ChannelPlan> plans;
-  bool any_both = false, any_pooled = false, any_ref_only = false, any_test_only = false,
-       any_scaled = false;
+  bool any_both = false, any_pooled = false, any_ref_only = false, any_test_only = false, any_scaled = false;
   for (const std::string& name : names) {
     require(name);
     ChannelPlan plan;
@@ -147,10 +142,10 @@ std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref,
       plan.ref_var = find_variance(ref, ref_var, name);
       if (!plan.test_var && !plan.ref_var) {
         if (explicit_channels)
-          throw Error(fmt::format(
-              "no variance for channel \"{}\": give --ref-var or --test-var (or var.{} layers), "
-              "a tolerance, or the threshold fallback --fail T --fail-percent P",
-              name, name));
+          throw Error(
+              fmt::format("no variance for channel \"{}\": give --ref-var or --test-var (or var.{} layers), "
+                          "a tolerance, or the threshold fallback --fail T --fail-percent P",
+                          name, name));
         result.skipped.push_back(name);
         continue;
       }
@@ -180,19 +175,14 @@ std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref,
 
   std::vector<std::string> models;
   if (any_both)
-    models.push_back(
-        any_pooled
-            ? fmt::format("pooled per-sample variance of test ({} spp) and reference ({} spp)",
-                          *spp_test, *spp_ref)
-            : "var_ref + var_test");
+    models.push_back(any_pooled ? fmt::format("pooled per-sample variance of test ({} spp) and reference ({} spp)",
+                                              *spp_test, *spp_ref)
+                                : "var_ref + var_test");
   if (any_ref_only)
-    models.push_back(any_scaled ? "var_ref · (1 + spp_ref/spp_test)"
-                                : "var_ref only (test taken as exact)");
+    models.push_back(any_scaled ? "var_ref · (1 + spp_ref/spp_test)" : "var_ref only (test taken as exact)");
   if (any_test_only)
-    models.push_back(any_scaled ? "var_test · (1 + spp_test/spp_ref)"
-                                : "var_test only (reference taken as exact)");
-  for (const std::string& m : models)
-    result.variance_model += (result.variance_model.empty() ? "" : "; ") + m;
+    models.push_back(any_scaled ? "var_test · (1 + spp_test/spp_ref)" : "var_test only (reference taken as exact)");
+  for (const std::string& m : models) result.variance_model += (result.variance_model.empty() ? "" : "; ") + m;
   return plans;
 }
 
@@ -202,9 +192,9 @@ double difference_variance(const ChannelPlan& plan, size_t p) {
   if (plan.spp_test > 0.0) {
     // Two-sample pooled variance: under H0 both images estimate the same per-sample σ².
     const double nt = plan.spp_test, nr = plan.spp_ref;
-    const double s2 = ((nt - 1.0) * std::max(0.0, plan.test_var.at(p)) * nt +
-                       (nr - 1.0) * std::max(0.0, plan.ref_var.at(p)) * nr) /
-                      (nt + nr - 2.0);
+    const double s2 =
+        ((nt - 1.0) * std::max(0.0, plan.test_var.at(p)) * nt + (nr - 1.0) * std::max(0.0, plan.ref_var.at(p)) * nr) /
+        (nt + nr - 2.0);
     return s2 * (1.0 / nt + 1.0 / nr);
   }
   if (plan.ref_var) var += std::max(0.0, plan.ref_var.at(p));
@@ -216,9 +206,7 @@ double difference_variance(const ChannelPlan& plan, size_t p) {
 
 // Šidák: the per-test level 1 − (1 − α)^(1/n) keeping the family-wise level at α, without
 // cancellation.
-double sidak(double alpha, double n) {
-  return n > 0.0 ? -std::expm1(std::log1p(-alpha) / n) : alpha;
-}
+double sidak(double alpha, double n) { return n > 0.0 ? -std::expm1(std::log1p(-alpha) / n) : alpha; }
 
 }  // namespace
 
@@ -235,30 +223,27 @@ double two_sided_z(double p) {
   return 0.5 * (lo + hi);
 }
 
-CompareResult compare_images(const Image& test, const Image& ref, const CompareOptions& options,
-                             const Image* test_var, const Image* ref_var) {
+CompareResult compare_images(const Image& test, const Image& ref, const CompareOptions& options, const Image* test_var,
+                             const Image* ref_var) {
   if (test.width != ref.width || test.height != ref.height)
-    throw Error(fmt::format("size mismatch: test is {}x{}, reference is {}x{}", test.width,
-                            test.height, ref.width, ref.height));
+    throw Error(fmt::format("size mismatch: test is {}x{}, reference is {}x{}", test.width, test.height, ref.width,
+                            ref.height));
   if (test.width <= 0 || test.height <= 0) throw Error("empty images");
-  for (const auto& [companion, what] :
-       {std::pair{test_var, "test variance"}, std::pair{ref_var, "reference variance"}})
+  for (const auto& [companion, what] : {std::pair{test_var, "test variance"}, std::pair{ref_var, "reference variance"}})
     if (companion != nullptr && (companion->width != ref.width || companion->height != ref.height))
-      throw Error(fmt::format("size mismatch: {} image is {}x{}, reference is {}x{}", what,
-                              companion->width, companion->height, ref.width, ref.height));
+      throw Error(fmt::format("size mismatch: {} image is {}x{}, reference is {}x{}", what, companion->width,
+                              companion->height, ref.width, ref.height));
   if (!(options.alpha > 0.0 && options.alpha < 1.0)) throw Error("alpha must be in (0, 1)");
   if (!(options.max_reject_fraction >= 0.0 && options.max_reject_fraction <= 1.0))
     throw Error("the rejection limit must be in [0, 100%]");
-  if (options.fail_threshold && !(*options.fail_threshold >= 0.0))
-    throw Error("--fail threshold must be >= 0");
+  if (options.fail_threshold && !(*options.fail_threshold >= 0.0)) throw Error("--fail threshold must be >= 0");
 
   CompareResult result;
   result.width = ref.width;
   result.height = ref.height;
   result.threshold_mode = options.fail_threshold.has_value();
 
-  const std::vector<ChannelPlan> plans =
-      plan_channels(test, ref, options, test_var, ref_var, result);
+  const std::vector<ChannelPlan> plans = plan_channels(test, ref, options, test_var, ref_var, result);
 
   const size_t pixel_count = static_cast<size_t>(ref.width) * static_cast<size_t>(ref.height);
   int64_t z_channels = 0;
@@ -266,10 +251,8 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   const double n_tests = static_cast<double>(z_channels) * static_cast<double>(pixel_count);
   result.alpha_pixel = sidak(options.alpha, n_tests);
   result.z_critical = two_sided_z(result.alpha_pixel);
-  const bool bias_on = options.bias_alpha > 0.0 && options.bias_alpha < 1.0 &&
-                       !result.threshold_mode && z_channels > 0;
-  result.bias_z_critical =
-      bias_on ? two_sided_z(sidak(options.bias_alpha, static_cast<double>(z_channels))) : kInf;
+  const bool bias_on = options.bias_alpha > 0.0 && options.bias_alpha < 1.0 && !result.threshold_mode && z_channels > 0;
+  result.bias_z_critical = bias_on ? two_sided_z(sidak(options.bias_alpha, static_cast<double>(z_channels))) : kInf;
 
   std::vector<std::string> plane_names;
   for (const ChannelPlan& p : plans) plane_names.push_back(p.name);
@@ -290,9 +273,8 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   };
   std::vector<double> tile_sum_d(tiles_x * tiles_y), tile_sum_var(tiles_x * tiles_y);
   result.tile_z_critical =
-      tiles_on ? two_sided_z(sidak(
-                     options.bias_alpha,
-                     static_cast<double>(static_cast<size_t>(z_channels) * tiles_x * tiles_y)))
+      tiles_on ? two_sided_z(sidak(options.bias_alpha,
+                                   static_cast<double>(static_cast<size_t>(z_channels) * tiles_x * tiles_y)))
                : kInf;
   result.bias_tile = tiles_on ? tile_size : 0;
 
@@ -347,10 +329,7 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
         case ChannelTest::Threshold:
         case ChannelTest::AbsTolerance:
           reject = !identical && (!finite || std::abs(d) > plan.tolerance);
-          z = identical              ? 0.0
-              : !finite              ? kInf
-              : plan.tolerance > 0.0 ? d / plan.tolerance
-                                     : (d == 0.0 ? 0.0 : kInf);
+          z = identical ? 0.0 : !finite ? kInf : plan.tolerance > 0.0 ? d / plan.tolerance : (d == 0.0 ? 0.0 : kInf);
           badness = std::abs(z);
           error_value = std::abs(z);
           pval = reject ? 0.0 : 1.0;
@@ -386,17 +365,15 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
       }
     }
     report.mean_rel_diff = sum_abs_ref > 0.0 ? sum_d / sum_abs_ref : (sum_d == 0.0 ? 0.0 : kInf);
-    report.mean_abs_rel_diff =
-        sum_abs_ref > 0.0 ? sum_abs_d / sum_abs_ref : (sum_abs_d == 0.0 ? 0.0 : kInf);
+    report.mean_abs_rel_diff = sum_abs_ref > 0.0 ? sum_abs_d / sum_abs_ref : (sum_abs_d == 0.0 ? 0.0 : kInf);
     if (plan.test == ChannelTest::ZTest && bias_on) {
-      report.bias_z =
-          sum_var > 0.0 ? bias_sum_d / std::sqrt(sum_var) : (bias_sum_d == 0.0 ? 0.0 : kInf);
+      report.bias_z = sum_var > 0.0 ? bias_sum_d / std::sqrt(sum_var) : (bias_sum_d == 0.0 ? 0.0 : kInf);
       report.bias_failed = std::abs(report.bias_z) > result.bias_z_critical;
     }
     if (plan.test == ChannelTest::ZTest && tiles_on) {
       for (size_t k = 0; k < tile_sum_d.size(); ++k) {
-        const double z = tile_sum_var[k] > 0.0 ? tile_sum_d[k] / std::sqrt(tile_sum_var[k])
-                                               : (tile_sum_d[k] == 0.0 ? 0.0 : kInf);
+        const double z =
+            tile_sum_var[k] > 0.0 ? tile_sum_d[k] / std::sqrt(tile_sum_var[k]) : (tile_sum_d[k] == 0.0 ? 0.0 : kInf);
         if (report.tile_x < 0 || std::abs(z) > std::abs(report.tile_z)) {
           report.tile_z = z;
           report.tile_x = static_cast<int>(k % tiles_x) * tile_size;
@@ -410,26 +387,21 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
     result.channels.push_back(std::move(report));
   }
   for (size_t p = 0; p < pixel_count; ++p) {
-    result.error.pixels[p * result.error.channels.size() + static_cast<size_t>(reject_c)] =
-        pixel_failed[p];
+    result.error.pixels[p * result.error.channels.size() + static_cast<size_t>(reject_c)] = pixel_failed[p];
     result.failing_pixels += pixel_failed[p];
   }
 
   bool bias_failed = false;
-  for (const ChannelReport& c : result.channels)
-    bias_failed = bias_failed || c.bias_failed || c.tile_failed;
+  for (const ChannelReport& c : result.channels) bias_failed = bias_failed || c.bias_failed || c.tile_failed;
   if (result.threshold_mode) {
     // idiff: fail when nfail > failpercent/100 · npels.
     result.limit = options.fail_percent / 100.0;
-    result.reject_fraction =
-        static_cast<double>(result.failing_pixels) / static_cast<double>(pixel_count);
-    result.passed = static_cast<double>(result.failing_pixels) <=
-                    result.limit * static_cast<double>(pixel_count);
+    result.reject_fraction = static_cast<double>(result.failing_pixels) / static_cast<double>(pixel_count);
+    result.passed = static_cast<double>(result.failing_pixels) <= result.limit * static_cast<double>(pixel_count);
   } else {
     result.limit = options.max_reject_fraction;
-    result.reject_fraction = result.tested > 0 ? static_cast<double>(result.rejected) /
-                                                     static_cast<double>(result.tested)
-                                               : 0.0;
+    result.reject_fraction =
+        result.tested > 0 ? static_cast<double>(result.rejected) / static_cast<double>(result.tested) : 0.0;
     result.passed = result.reject_fraction <= result.limit && !bias_failed;
   }
   return result;
@@ -445,48 +417,40 @@ std::string format_compare_summary(const CompareResult& r) {
   s += fmt::format("{}: {}x{}, {}\n", r.passed ? "PASS" : "FAIL", r.width, r.height,
                    r.threshold_mode ? "threshold test (Cycles/idiff style)" : "per-pixel z-test");
   if (r.threshold_mode) {
-    s += fmt::format("  failing pixels: {:.4g}% ({} of {}), limit {:.4g}%\n",
-                     100.0 * r.reject_fraction, r.failing_pixels,
-                     static_cast<int64_t>(r.width) * r.height, 100.0 * r.limit);
+    s += fmt::format("  failing pixels: {:.4g}% ({} of {}), limit {:.4g}%\n", 100.0 * r.reject_fraction,
+                     r.failing_pixels, static_cast<int64_t>(r.width) * r.height, 100.0 * r.limit);
   } else {
-    s += fmt::format("  rejecting pixel-channels: {:.4g}% ({} of {}), limit {:.4g}%{}\n",
-                     100.0 * r.reject_fraction, r.rejected, r.tested, 100.0 * r.limit,
+    s += fmt::format("  rejecting pixel-channels: {:.4g}% ({} of {}), limit {:.4g}%{}\n", 100.0 * r.reject_fraction,
+                     r.rejected, r.tested, 100.0 * r.limit,
                      bias_failed   ? "; mean-bias test FAILED"
                      : tile_failed ? "; tile mean-bias test FAILED"
                                    : "");
-    s += fmt::format(
-        "  per pixel-channel: alpha {:.3g} (Sidak), |z| > {:.3f}; mean-bias |z| > {:.3f}",
-        r.alpha_pixel, r.z_critical, r.bias_z_critical);
-    s += r.bias_tile > 0 ? fmt::format(", per {}x{} tile |z| > {:.3f}\n", r.bias_tile, r.bias_tile,
-                                       r.tile_z_critical)
+    s += fmt::format("  per pixel-channel: alpha {:.3g} (Sidak), |z| > {:.3f}; mean-bias |z| > {:.3f}", r.alpha_pixel,
+                     r.z_critical, r.bias_z_critical);
+    s += r.bias_tile > 0 ? fmt::format(", per {}x{} tile |z| > {:.3f}\n", r.bias_tile, r.bias_tile, r.tile_z_critical)
                          : std::string("\n");
-    if (!r.variance_model.empty())
-      s += fmt::format("  variance of the difference: {}\n", r.variance_model);
+    if (!r.variance_model.empty()) s += fmt::format("  variance of the difference: {}\n", r.variance_model);
   }
   if (r.worst.x >= 0)
-    s += fmt::format(
-        "  worst: pixel ({}, {}) channel {}: test {:.6g}, ref {:.6g}, {} {:.4g}, p {:.3g}\n",
-        r.worst.x, r.worst.y, r.worst.channel, r.worst.test, r.worst.ref,
-        r.threshold_mode ? "d/T" : "z", r.worst.z, r.worst.p);
-  s += fmt::format("  {:<14} {:<9} {:>17} {:>9} {:>14} {:>16} {:>10} {:>22}\n", "channel", "test",
-                   "rejected", "share", "mean rel diff", "mean |rel diff|", "bias z",
-                   "worst tile z");
+    s += fmt::format("  worst: pixel ({}, {}) channel {}: test {:.6g}, ref {:.6g}, {} {:.4g}, p {:.3g}\n", r.worst.x,
+                     r.worst.y, r.worst.channel, r.worst.test, r.worst.ref, r.threshold_mode ? "d/T" : "z", r.worst.z,
+                     r.worst.p);
+  s += fmt::format("  {:<14} {:<9} {:>17} {:>9} {:>14} {:>16} {:>10} {:>22}\n", "channel", "test", "rejected", "share",
+                   "mean rel diff", "mean |rel diff|", "bias z", "worst tile z");
   for (const ChannelReport& c : r.channels)
-    s += fmt::format("  {:<14} {:<9} {:>17} {:>8.4g}% {:>+13.4g}% {:>15.4g}% {:>10} {:>22}\n",
-                     c.name, test_name(c.test), fmt::format("{}/{}", c.rejected, c.tested),
-                     100.0 * c.reject_fraction(), 100.0 * c.mean_rel_diff,
-                     100.0 * c.mean_abs_rel_diff,
+    s += fmt::format("  {:<14} {:<9} {:>17} {:>8.4g}% {:>+13.4g}% {:>15.4g}% {:>10} {:>22}\n", c.name,
+                     test_name(c.test), fmt::format("{}/{}", c.rejected, c.tested), 100.0 * c.reject_fraction(),
+                     100.0 * c.mean_rel_diff, 100.0 * c.mean_abs_rel_diff,
                      c.test == ChannelTest::ZTest && std::isfinite(r.bias_z_critical)
                          ? fmt::format("{:+.2f}{}", c.bias_z, c.bias_failed ? "!" : "")
                          : std::string("-"),
-                     c.tile_x >= 0 ? fmt::format("{:+.2f}{} at ({},{})", c.tile_z,
-                                                 c.tile_failed ? "!" : "", c.tile_x, c.tile_y)
-                                   : std::string("-"));
+                     c.tile_x >= 0
+                         ? fmt::format("{:+.2f}{} at ({},{})", c.tile_z, c.tile_failed ? "!" : "", c.tile_x, c.tile_y)
+                         : std::string("-"));
   if (!r.skipped.empty()) {
     std::string list;
     for (const std::string& c : r.skipped) list += (list.empty() ? "" : ", ") + c;
-    s += fmt::format("  not compared (no variance; use --abs-tol-channel / --exact-channels): {}\n",
-                     list);
+    s += fmt::format("  not compared (no variance; use --abs-tol-channel / --exact-channels): {}\n", list);
   }
   return s;
 }

@@ -49,16 +49,16 @@ namespace sylva {
 enum class ChannelTest : uint8_t { ZTest, Threshold, Exact, AbsTolerance };
 
 struct CompareOptions {
-  double alpha = 0.01;                  // family-wise false-rejection rate of the per-pixel z-test
-  double max_reject_fraction = 0.0025;  // pass when rejecting pixel-channels / tested ≤ this
-  std::vector<std::string> channels;    // empty: all that can be tested (compare_images)
-  std::vector<std::string> exact_channels;                     // compared exactly (UInt always is)
+  double alpha = 0.01;                      // family-wise false-rejection rate of the per-pixel z-test
+  double max_reject_fraction = 0.0025;      // pass when rejecting pixel-channels / tested ≤ this
+  std::vector<std::string> channels;        // empty: all that can be tested (compare_images)
+  std::vector<std::string> exact_channels;  // compared exactly (UInt always is)
   std::vector<std::pair<std::string, double>> abs_tolerances;  // channel → absolute tolerance
   double variance_rel_floor = 1e-5;                            // σ ≥ this · max(|test|, |ref|)
-  double bias_alpha = 1e-3;  // mean-bias test level (per scale, Šidák); 0 disables it
-  int bias_tile = 16;        // tile size of the local mean-bias test; 0: whole image only
+  double bias_alpha = 1e-3;              // mean-bias test level (per scale, Šidák); 0 disables it
+  int bias_tile = 16;                    // tile size of the local mean-bias test; 0: whole image only
   std::optional<double> fail_threshold;  // Cycles-style fallback: |d| > T fails a pixel ...
-  double fail_percent = 0.0;  // ... and > P% failing pixels fail the image (idiff's default 0)
+  double fail_percent = 0.0;             // ... and > P% failing pixels fail the image (idiff's default 0)
 };
 
 struct ChannelReport {
@@ -91,14 +91,14 @@ struct CompareResult {
   int width = 0, height = 0;
   std::vector<ChannelReport> channels;  // in test order
   std::vector<std::string> skipped;     // channels left out by default (no variance, no tolerance)
-  std::string variance_model;   // how the variance of the difference was formed, for the summary
-  bool threshold_mode = false;  // Cycles-style fallback used
-  int64_t tested = 0, rejected = 0;  // z-test / exact / tolerance pixel-channels
-  int64_t failing_pixels = 0;        // threshold mode: pixels with any failing channel
-  double reject_fraction = 0.0;      // the figure compared against the limit
-  double limit = 0.0;                // max_reject_fraction, or fail_percent / 100
-  double alpha_pixel = 0.0;          // Šidák-corrected per-pixel-channel level
-  double z_critical = 0.0;           // |z| above which a pixel-channel rejects
+  std::string variance_model;           // how the variance of the difference was formed, for the summary
+  bool threshold_mode = false;          // Cycles-style fallback used
+  int64_t tested = 0, rejected = 0;     // z-test / exact / tolerance pixel-channels
+  int64_t failing_pixels = 0;           // threshold mode: pixels with any failing channel
+  double reject_fraction = 0.0;         // the figure compared against the limit
+  double limit = 0.0;                   // max_reject_fraction, or fail_percent / 100
+  double alpha_pixel = 0.0;             // Šidák-corrected per-pixel-channel level
+  double z_critical = 0.0;              // |z| above which a pixel-channel rejects
   double bias_z_critical = 0.0;
   double tile_z_critical = 0.0;
   int bias_tile = 0;  // tile size used (0: no tile test)

@@ -27,8 +27,7 @@ double parse_fraction(const std::string& text, const char* option) {
   const double v = std::strtod(number.c_str(), &end);
   if (number.empty() || end == nullptr || *end != '\0' || !(v >= 0.0))
     throw Error(
-        fmt::format("{}: expected a fraction like 0.0025 or a percentage like 0.25%, got \"{}\"",
-                    option, text));
+        fmt::format("{}: expected a fraction like 0.0025 or a percentage like 0.25%, got \"{}\"", option, text));
   return v * scale;
 }
 
@@ -39,8 +38,7 @@ std::pair<std::string, double> parse_tolerance(const std::string& text) {
   const std::string value = eq == std::string::npos ? "" : text.substr(eq + 1);
   const double tol = std::strtod(value.c_str(), &end);
   if (eq == std::string::npos || eq == 0 || value.empty() || *end != '\0' || !(tol >= 0.0))
-    throw Error(fmt::format(
-        "--abs-tol-channel: expected CHANNEL=TOLERANCE (e.g. Z=0.001), got \"{}\"", text));
+    throw Error(fmt::format("--abs-tol-channel: expected CHANNEL=TOLERANCE (e.g. Z=0.001), got \"{}\"", text));
   return {text.substr(0, eq), tol};
 }
 
@@ -76,8 +74,8 @@ int run_compare(const CompareArgs& a) {
   if (!a.test_var.empty()) test_var = read_exr(a.test_var);
   if (!a.ref_var.empty()) ref_var = read_exr(a.ref_var);
 
-  const CompareResult result = compare_images(test, ref, options, test_var ? &*test_var : nullptr,
-                                              ref_var ? &*ref_var : nullptr);
+  const CompareResult result =
+      compare_images(test, ref, options, test_var ? &*test_var : nullptr, ref_var ? &*ref_var : nullptr);
   fmt::print("{} vs {}\n{}", a.test, a.ref, format_compare_summary(result));
   if (!a.report.empty()) {
     ReportOptions report;
@@ -104,8 +102,7 @@ CommandRun add_compare_command(CLI::App& parent) {
       "companion file), Sidak-corrected; exit 0 pass, 1 fail, 2 unusable input");
   cmd->add_option("test", args->test, "Test image (EXR)")->required();
   cmd->add_option("ref", args->ref, "Reference image (EXR)")->required();
-  cmd->add_option("--ref-var", args->ref_var,
-                  "Reference variance image (channels C or var.C: variance of the mean)");
+  cmd->add_option("--ref-var", args->ref_var, "Reference variance image (channels C or var.C: variance of the mean)");
   cmd->add_option("--test-var", args->test_var, "Test variance image (channels C or var.C)");
   cmd->add_option("--alpha", args->alpha, "Family-wise false-rejection rate of the per-pixel test")
       ->capture_default_str()
@@ -113,22 +110,17 @@ CommandRun add_compare_command(CLI::App& parent) {
   cmd->add_option("--max-reject", args->max_reject,
                   "Largest passing share of rejecting pixel-channels (0.25% or 0.0025)")
       ->capture_default_str();
-  cmd->add_option("--channels", args->channels, "Channels to compare (default: all but var.*)")
+  cmd->add_option("--channels", args->channels, "Channels to compare (default: all but var.*)")->delimiter(',');
+  cmd->add_option("--exact-channels", args->exact_channels, "Channels that must match exactly (UInt ids always do)")
       ->delimiter(',');
-  cmd->add_option("--exact-channels", args->exact_channels,
-                  "Channels that must match exactly (UInt ids always do)")
-      ->delimiter(',');
-  cmd->add_option("--abs-tol-channel", args->tolerances,
-                  "CHANNEL=TOL: compare with an absolute tolerance (repeatable)")
+  cmd->add_option("--abs-tol-channel", args->tolerances, "CHANNEL=TOL: compare with an absolute tolerance (repeatable)")
       ->delimiter(',');
   CLI::Option* fail =
-      cmd->add_option(
-             "--fail", args->fail,
-             "Threshold fallback without variance (Cycles/idiff): a pixel fails when any channel "
-             "differs by more than T")
+      cmd->add_option("--fail", args->fail,
+                      "Threshold fallback without variance (Cycles/idiff): a pixel fails when any channel "
+                      "differs by more than T")
           ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--fail-percent", args->fail_percent,
-                  "... and the image fails when more than P% of pixels fail")
+  cmd->add_option("--fail-percent", args->fail_percent, "... and the image fails when more than P% of pixels fail")
       ->capture_default_str()
       ->needs(fail)
       ->check(CLI::Range(0.0, 100.0));
@@ -136,16 +128,12 @@ CommandRun add_compare_command(CLI::App& parent) {
                   "Level of the mean-bias tests over the image and over tiles (0 disables them)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.5));
-  cmd->add_option("--bias-tile", args->bias_tile,
-                  "Tile size of the local mean-bias test (0: whole image only)")
+  cmd->add_option("--bias-tile", args->bias_tile, "Tile size of the local mean-bias test (0: whole image only)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1 << 20));
-  cmd->add_option("--report", args->report,
-                  "Write test/ref/error/pvalue EXRs, PNG previews and index.html here");
-  cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")
-      ->capture_default_str();
-  cmd->add_option("--exposure", args->exposure_ev, "Exposure of the report's previews in stops")
-      ->capture_default_str();
+  cmd->add_option("--report", args->report, "Write test/ref/error/pvalue EXRs, PNG previews and index.html here");
+  cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")->capture_default_str();
+  cmd->add_option("--exposure", args->exposure_ev, "Exposure of the report's previews in stops")->capture_default_str();
   cmd->add_option("--view", args->view, "OCIO view of the report's previews (Standard, ACES, Raw)")
       ->capture_default_str();
   return [args] { return run_compare(*args); };

@@ -19,9 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // sRGB inverse EOTF (IEC 61966-2-1), the reference the Standard view must match.
-double srgb_encode(double v) {
-  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
-}
+double srgb_encode(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
 
 std::vector<uint8_t> read_png(const fs::path& path, int& width, int& height) {
   auto in = OIIO::ImageInput::open(path.string());
@@ -72,10 +70,8 @@ TEST(Color, UnknownViewNamesTheAvailableOnes) {
 }
 
 TEST(Color, BrokenConfigIsReportedWithItsPath) {
-  const fs::path path =
-      fs::temp_directory_path() / ("sylva_bad_ocio_" + std::to_string(::getpid()) + ".ocio");
-  std::ofstream(path)
-      << "ocio_profile_version: 2.1\nroles: {scene_linear: nowhere}\ndisplays: {}\n";
+  const fs::path path = fs::temp_directory_path() / ("sylva_bad_ocio_" + std::to_string(::getpid()) + ".ocio");
+  std::ofstream(path) << "ocio_profile_version: 2.1\nroles: {scene_linear: nowhere}\ndisplays: {}\n";
   try {
     validate_ocio_config(path);
     FAIL() << "expected sylva::Error";

@@ -19,9 +19,8 @@ namespace fs = std::filesystem;
 class ImageFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sylva_test_image_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("sylva_test_image_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -243,8 +242,7 @@ TEST_F(ImageFiles, ReadErrorsAreClear) {
 
   // A truncated EXR: valid header, missing pixel data.
   Image image = make_image(64, 64, {"R", "G", "B"});
-  for (size_t i = 0; i < image.pixels.size(); ++i)
-    image.pixels[i] = static_cast<float>(i % 97) * 0.37f;
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<float>(i % 97) * 0.37f;
   const fs::path full = dir_ / "full.exr";
   write_exr(full, image);
   const fs::path cut = dir_ / "cut.exr";

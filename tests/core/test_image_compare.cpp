@@ -40,8 +40,7 @@ struct Draw {
   bool variance_layer = true;
 };
 
-Draw draw(int spp, float rel_sigma = 0.5f, float scale = 1.0f, int shift_x = 0,
-          bool variance_layer = true) {
+Draw draw(int spp, float rel_sigma = 0.5f, float scale = 1.0f, int shift_x = 0, bool variance_layer = true) {
   Draw d;
   d.spp = spp;
   d.rel_sigma = rel_sigma;
@@ -62,10 +61,8 @@ Image draw_image(const Draw& d, uint64_t seed) {
   for (int y = 0; y < kSize; ++y)
     for (int x = 0; x < kSize; ++x)
       for (int c = 0; c < 3; ++c) {
-        const bool scaled =
-            d.patch == 0 || (x >= 16 && x < 16 + d.patch && y >= 16 && y < 16 + d.patch);
-        const double mu = (scaled ? d.scale : 1.0f) *
-                          structured_mean(std::clamp(x - d.shift_x, 0, kSize - 1), y, c);
+        const bool scaled = d.patch == 0 || (x >= 16 && x < 16 + d.patch && y >= 16 && y < 16 + d.patch);
+        const double mu = (scaled ? d.scale : 1.0f) * structured_mean(std::clamp(x - d.shift_x, 0, kSize - 1), y, c);
         const double var_mean = std::pow(d.rel_sigma * mu, 2) / d.spp;
         image.at(x, y, c) = static_cast<float>(mu + normal(rng) * std::sqrt(var_mean));
         const double estimate = var_mean * chi2_half(rng) / (d.spp - 1);
@@ -105,9 +102,8 @@ TEST(ImageCompare, SameDistributionPassesInNearlyAllTrials) {
       worst_tile = std::max(worst_tile, std::abs(c.tile_z));
     }
   }
-  std::cout << "same distribution (64 vs 4096 spp): " << passes << "/" << kTrials
-            << " pass, worst rejecting share " << 100.0 * worst_share << "%, worst |bias z| "
-            << worst_bias << ", worst |tile z| " << worst_tile << "\n";
+  std::cout << "same distribution (64 vs 4096 spp): " << passes << "/" << kTrials << " pass, worst rejecting share "
+            << 100.0 * worst_share << "%, worst |bias z| " << worst_bias << ", worst |tile z| " << worst_tile << "\n";
   EXPECT_GE(passes, kTrials - 1);  // nominal false-failure rate ≈ 1% + 0.1%
   EXPECT_LT(worst_share, 0.0025);
 }
@@ -118,9 +114,8 @@ TEST(ImageCompare, ThreePercentShiftFails) {
     Draw biased = kTest;
     biased.scale = 1.03f;
     const CompareResult r = compare_images(draw_image(biased, 7), draw_image(kReference, 8), {});
-    std::cout << "+3% at 64 spp: rejecting share " << 100.0 * r.reject_fraction << "%, bias z "
-              << r.channels[0].bias_z << " " << r.channels[1].bias_z << " " << r.channels[2].bias_z
-              << "\n";
+    std::cout << "+3% at 64 spp: rejecting share " << 100.0 * r.reject_fraction << "%, bias z " << r.channels[0].bias_z
+              << " " << r.channels[1].bias_z << " " << r.channels[2].bias_z << "\n";
     EXPECT_FALSE(r.passed);
     for (const ChannelReport& c : r.channels) {
       EXPECT_TRUE(c.bias_failed) << c.name;
@@ -137,15 +132,12 @@ TEST(ImageCompare, ThreePercentShiftFails) {
     CompareOptions no_bias;
     no_bias.bias_alpha = 0.0;
     const CompareResult r = compare_images(draw_image(biased, 9), draw_image(ref, 10), no_bias);
-    std::cout << "+3% at 1024 spp, per-pixel test only: rejecting share "
-              << 100.0 * r.reject_fraction << "%\n";
+    std::cout << "+3% at 1024 spp, per-pixel test only: rejecting share " << 100.0 * r.reject_fraction << "%\n";
     EXPECT_FALSE(r.passed);
     EXPECT_GT(r.reject_fraction, 0.005);
     const Draw unbiased = draw(1024, 0.3f);
-    const CompareResult same =
-        compare_images(draw_image(unbiased, 11), draw_image(ref, 10), no_bias);
-    std::cout << "same distribution at 1024 spp: rejecting share " << 100.0 * same.reject_fraction
-              << "%\n";
+    const CompareResult same = compare_images(draw_image(unbiased, 11), draw_image(ref, 10), no_bias);
+    std::cout << "same distribution at 1024 spp: rejecting share " << 100.0 * same.reject_fraction << "%\n";
     EXPECT_TRUE(same.passed);
   }
 }
@@ -156,10 +148,9 @@ TEST(ImageCompare, LocalThreePercentShiftFailsTheTileTest) {
   patch.scale = 1.03f;
   patch.patch = 16;
   const CompareResult r = compare_images(draw_image(patch, 61), draw_image(kReference, 62), {});
-  std::cout << "+3% on a 16x16 patch at 64 spp: rejecting share " << 100.0 * r.reject_fraction
-            << "%, tile z " << r.channels[0].tile_z << " " << r.channels[1].tile_z << " "
-            << r.channels[2].tile_z << " (critical " << r.tile_z_critical << "), image bias z "
-            << r.channels[0].bias_z << "\n";
+  std::cout << "+3% on a 16x16 patch at 64 spp: rejecting share " << 100.0 * r.reject_fraction << "%, tile z "
+            << r.channels[0].tile_z << " " << r.channels[1].tile_z << " " << r.channels[2].tile_z << " (critical "
+            << r.tile_z_critical << "), image bias z " << r.channels[0].bias_z << "\n";
   EXPECT_FALSE(r.passed);
   EXPECT_LT(r.reject_fraction, r.limit);
   int tiles_failed = 0;  // expected tile z ≈ 6.5 ± 1 per channel against a critical 4.26
@@ -324,8 +315,7 @@ TEST(ImageCompare, UnusableInputIsAnError) {
 }
 
 TEST(CompareReport, WritesFilesAndListsFailuresFirst) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("sylva_test_report_" + std::to_string(::getpid()));
+  const fs::path dir = fs::temp_directory_path() / ("sylva_test_report_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   Image ref = draw_image(kReference, 51), test = draw_image(kTest, 52);
   // Add a nir band that is 10% too bright in the test: it must come first.
@@ -346,9 +336,8 @@ TEST(CompareReport, WritesFilesAndListsFailuresFirst) {
   ReportOptions options;
   options.test_label = "t.exr";
   write_compare_report(dir, test, ref, r, options);
-  for (const char* f : {"test.exr", "ref.exr", "error.exr", "pvalue.exr", "index.html",
-                        "rgb_test.png", "rgb_ref.png", "rgb_diff.png", "rgb_reject.png",
-                        "nir_Y_test.png", "nir_Y_diff.png", "nir_Y_reject.png"})
+  for (const char* f : {"test.exr", "ref.exr", "error.exr", "pvalue.exr", "index.html", "rgb_test.png", "rgb_ref.png",
+                        "rgb_diff.png", "rgb_reject.png", "nir_Y_test.png", "nir_Y_diff.png", "nir_Y_reject.png"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   const Image error = read_exr(dir / "error.exr");
   EXPECT_GE(error.find_channel("reject.Y"), 0);

@@ -33,9 +33,8 @@ std::string slurp(const fs::path& p) {
 class CompareCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("sylva_test_cmd_compare_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("sylva_test_cmd_compare_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -43,8 +42,8 @@ class CompareCommand : public ::testing::Test {
 
   CommandResult run(const std::string& args) const {
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string command = std::string("'") + SYLVA_BINARY + "' compare " + args + " > '" +
-                                out.string() + "' 2> '" + err.string() + "'";
+    const std::string command =
+        std::string("'") + SYLVA_BINARY + "' compare " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
     const int status = std::system(command.c_str());
     CommandResult r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -60,8 +59,7 @@ class CompareCommand : public ::testing::Test {
   }
 
   // R,G,B (+ var.*) drawn like a Monte Carlo estimate with `spp` samples of relative σ 0.5.
-  void write(const std::string& name, int spp, float scale, uint64_t seed, bool variance = true,
-             int size = 32) const {
+  void write(const std::string& name, int spp, float scale, uint64_t seed, bool variance = true, int size = 32) const {
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> normal;
     std::gamma_distribution<double> chi2_half((spp - 1) / 2.0, 2.0);
@@ -105,15 +103,12 @@ TEST_F(CompareCommand, UnusableInputExitsTwoWithAClearMessage) {
   write("small.exr", 64, 1.0f, 2, true, 16);
   const CommandResult missing = run(path("nope.exr") + " " + path("ref.exr"));
   EXPECT_EQ(missing.exit_code, 2);
-  EXPECT_NE(missing.err.find("sylva: " + (dir_ / "nope.exr").string() + ": no such file"),
-            std::string::npos)
+  EXPECT_NE(missing.err.find("sylva: " + (dir_ / "nope.exr").string() + ": no such file"), std::string::npos)
       << missing.err;
   const CommandResult size = run(path("small.exr") + " " + path("ref.exr"));
   EXPECT_EQ(size.exit_code, 2);
-  EXPECT_NE(size.err.find("size mismatch: test is 16x16, reference is 32x32"), std::string::npos)
-      << size.err;
-  const CommandResult channel =
-      run(path("ref.exr") + " " + path("ref.exr") + " --channels R,nir.Y");
+  EXPECT_NE(size.err.find("size mismatch: test is 16x16, reference is 32x32"), std::string::npos) << size.err;
+  const CommandResult channel = run(path("ref.exr") + " " + path("ref.exr") + " --channels R,nir.Y");
   EXPECT_EQ(channel.exit_code, 2);
   EXPECT_NE(channel.err.find("nir.Y"), std::string::npos) << channel.err;
   const CommandResult limit = run(path("ref.exr") + " " + path("ref.exr") + " --max-reject lots");
@@ -135,8 +130,7 @@ TEST_F(CompareCommand, CompanionVarianceFile) {
     for (int x = 0; x < full.width; ++x)
       for (const char* c : {"R", "G", "B"}) {
         mean.at(x, y, mean.find_channel(c)) = full.at(x, y, full.find_channel(c));
-        var.at(x, y, var.find_channel(c)) =
-            full.at(x, y, full.find_channel(std::string("var.") + c));
+        var.at(x, y, var.find_channel(c)) = full.at(x, y, full.find_channel(std::string("var.") + c));
       }
   mean.attributes = full.attributes;
   write_exr(dir_ / "ref.exr", mean);
@@ -144,11 +138,9 @@ TEST_F(CompareCommand, CompanionVarianceFile) {
   const CommandResult no_var = run(path("test.exr") + " " + path("ref.exr"));
   EXPECT_EQ(no_var.exit_code, 2) << no_var.out;
   EXPECT_NE(no_var.err.find("--ref-var"), std::string::npos) << no_var.err;
-  const CommandResult pass =
-      run(path("test.exr") + " " + path("ref.exr") + " --ref-var " + path("ref_var.exr"));
+  const CommandResult pass = run(path("test.exr") + " " + path("ref.exr") + " --ref-var " + path("ref_var.exr"));
   EXPECT_EQ(pass.exit_code, 0) << pass.out << pass.err;
-  const CommandResult fail =
-      run(path("bright.exr") + " " + path("ref.exr") + " --ref-var " + path("ref_var.exr"));
+  const CommandResult fail = run(path("bright.exr") + " " + path("ref.exr") + " --ref-var " + path("ref_var.exr"));
   EXPECT_EQ(fail.exit_code, 1) << fail.out << fail.err;
 }
 
@@ -177,11 +169,10 @@ TEST_F(CompareCommand, ReportDirectory) {
   write("ref.exr", 4096, 1.0f, 1);
   write("bright.exr", 64, 1.2f, 3);
   const fs::path report = dir_ / "report";
-  const CommandResult fail =
-      run(path("bright.exr") + " " + path("ref.exr") + " --report '" + report.string() + "'");
+  const CommandResult fail = run(path("bright.exr") + " " + path("ref.exr") + " --report '" + report.string() + "'");
   EXPECT_EQ(fail.exit_code, 1) << fail.out << fail.err;
-  for (const char* f : {"index.html", "test.exr", "ref.exr", "error.exr", "pvalue.exr",
-                        "rgb_test.png", "rgb_ref.png", "rgb_diff.png", "rgb_reject.png"})
+  for (const char* f : {"index.html", "test.exr", "ref.exr", "error.exr", "pvalue.exr", "rgb_test.png", "rgb_ref.png",
+                        "rgb_diff.png", "rgb_reject.png"})
     EXPECT_TRUE(fs::exists(report / f)) << f;
   const std::string html = slurp(report / "index.html");
   EXPECT_NE(html.find("id=\"verdict\">FAIL"), std::string::npos);
@@ -189,8 +180,8 @@ TEST_F(CompareCommand, ReportDirectory) {
 
   // An unknown view is refused before anything is written.
   const fs::path nowhere = dir_ / "report2";
-  const CommandResult view = run(path("bright.exr") + " " + path("ref.exr") +
-                                 " --view Filmic --report '" + nowhere.string() + "'");
+  const CommandResult view =
+      run(path("bright.exr") + " " + path("ref.exr") + " --view Filmic --report '" + nowhere.string() + "'");
   EXPECT_EQ(view.exit_code, 2);
   EXPECT_NE(view.err.find("Standard, ACES, Raw"), std::string::npos) << view.err;
   EXPECT_FALSE(fs::exists(nowhere));
