@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 namespace sylva {
 namespace {
 
@@ -62,6 +65,44 @@ translate = [10, 0, 0]
   EXPECT_EQ(f.scene.instances[1].object_id, 4u);
   EXPECT_GT(f.scene.prototypes[0].leaves.size(), 100u);
   EXPECT_GT(f.scene.prototypes[0].triangles.triangles.size(), 100u);
+}
+
+TEST(SceneFile, MeshFilesFromObjAndPly) {
+  const auto dir = std::filesystem::temp_directory_path() / "sylva_test_scene_meshes";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream obj(dir / "tri.obj");
+    obj << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    std::ofstream ply(dir / "tri.ply");
+    ply << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+           "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  }
+  const SceneFile f = parse_scene(kHeader + R"(
+[[meshes]]
+file = "tri.obj"
+material = "grey"
+object_id = 9
+[[meshes]]
+file = "tri.ply"
+material = "grey"
+translate = [0, 0, 1]
+)",
+                                  "meshes.toml", dir);
+  ASSERT_EQ(f.scene.prototypes.size(), 2u);
+  EXPECT_EQ(f.scene.prototypes[0].triangles.triangles.size(), 2u);  // the quad, fan-triangulated
+  EXPECT_EQ(f.scene.prototypes[1].triangles.triangles.size(), 1u);
+  EXPECT_EQ(f.scene.instances[0].object_id, 9u);
+  {
+    std::ofstream bad(dir / "bad.obj");
+    bad << "v 0 0 0\nv 1 0 zero\n";
+  }
+  try {
+    parse_scene(kHeader + "[[meshes]]\nfile = \"bad.obj\"\nmaterial = \"grey\"\n", "m.toml", dir);
+    FAIL() << "a malformed OBJ was accepted";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.obj:2:"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
 }
 
 struct BadCase {
