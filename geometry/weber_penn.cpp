@@ -304,7 +304,9 @@ class Builder {
 
   // §4.2: the stem and its `splits` clones each turn away by angle_split about x, then spread
   // about the vertical axis through the split point; the deflection is later corrected over the
-  // remaining segments. `f` is the stem's frame, updated in place.
+  // remaining segments. One clone: the two turn to opposite sides by half of the paper's spread
+  // angle each, so they diverge by the "20 to 50 degrees" §4.2 describes for horizontal stems;
+  // k clones: 360/(k+1) degrees apart (DESIGN §5.1). `f` is the stem's frame, updated in place.
   void split(StemState& s, Frame& f, const Vec3& at, int i, int n, int splits, int stem_index,
              std::vector<StemState>& clones) {
     const WeberPennLevel& lp = p_.at(s.level);
@@ -448,9 +450,12 @@ class Builder {
     init_random_state(c);
     if (length < kMinStemLength) return;
 
-    // §4.4 radius, limited to the parent's radius at the spawn point.
-    const float parent_r =
-        wp::taper_radius(p_.at(s.level).taper, s.base_radius, s.length, std::clamp(offset / s.length, 0.0f, 1.0f));
+    // §4.4 radius, limited to the parent's radius at the spawn point (for a fan at the tip of a
+    // tapered stem, at the middle of its last segment, where the fan's stems emerge from the bark).
+    const int parent_segments = std::max(1, p_.at(s.level).curve_res);
+    const float spawn_z =
+        fan ? 1.0f - 0.5f / static_cast<float>(parent_segments) : std::clamp(offset / s.length, 0.0f, 1.0f);
+    const float parent_r = wp::taper_radius(p_.at(s.level).taper, s.base_radius, s.length, spawn_z);
     auto radius_for = [&](float l) {
       return std::min(wp::child_radius(s.base_radius, l, s.length, p_.ratio_power), parent_r);
     };

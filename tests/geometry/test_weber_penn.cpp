@@ -302,6 +302,25 @@ TEST(WeberPenn, NegativeLeavesMakeFans) {
   EXPECT_GT(per_stem.size(), 100u);
 }
 
+TEST(WeberPenn, NegativeBranchesMakeFansAtTheStemEnd) {
+  WeberPennParams p = test::quaking_aspen();
+  p.leaves = 0;
+  p.level[2].branches = -5;
+  p.level[2].rotate = 60.0f;  // the fan's angle
+  const TreeModel m = make_weber_penn_tree(p, 5);
+  std::map<int, int> per_parent;
+  for (size_t i = 0; i < m.stems.size(); ++i) {
+    if (m.stems.level[i] != 2) continue;
+    const size_t parent = static_cast<size_t>(m.stems.parent[i]);
+    ++per_parent[m.stems.parent[i]];
+    EXPECT_FLOAT_EQ(m.stems.offset_m[i], m.stems.length_m[parent]);
+    const uint32_t tip = m.stems.first_section[parent] + m.stems.section_count[parent] - 1;
+    EXPECT_EQ(m.sections.positions[m.stems.first_section[i]], m.sections.positions[tip]);
+  }
+  EXPECT_GT(per_parent.size(), 40u);
+  for (const auto& [parent, n] : per_parent) EXPECT_EQ(n, 5);
+}
+
 TEST(WeberPenn, SameSeedBitIdenticalDifferentSeedSimilarCounts) {
   for (const WeberPennParams& p : {test::quaking_aspen(), test::weeping_willow()}) {
     const TreeMesh a = make_tree_mesh(make_weber_penn_tree(p, 42));

@@ -6,6 +6,7 @@
 #include "scenes/tree_stats.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
