@@ -473,7 +473,7 @@ class Builder {
   // §4.6 two-pass pruning: probe the stem (with its clones) without children, shrink it until
   // every point is inside the envelope, then blend with the unpruned length by PruneRatio.
   float prune(const StemState& c) {
-    if (lengths_ == Lengths::Replay) return (*pruned_)[replay_pos_++];
+    if (lengths_ == Lengths::Replay && replay_pos_ < pruned_->size()) return (*pruned_)[replay_pos_++];
     const float original = c.length;
     float length = original;
     StemState t = c;

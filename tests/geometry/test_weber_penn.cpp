@@ -361,6 +361,27 @@ TEST(WeberPenn, WindMovesStemsWithoutChangingStructure) {
   }
 }
 
+TEST(WeberPenn, LevelsDeeperThanThreeReuseLevelThree) {
+  WeberPennParams p = test::quaking_aspen();
+  p.levels = 5;
+  p.level[1].branches = 6;
+  p.level[2].branches = 4;
+  p.level[3].length = 0.5f;
+  p.level[3].branches = 3;
+  p.level[3].curve_res = 2;
+  const TreeModel m = make_weber_penn_tree(p, 6);
+  const std::vector<int> n = stems_per_level(m);
+  ASSERT_EQ(n.size(), 5u);
+  EXPECT_GT(n[4], n[3]);
+  for (size_t i = 0; i < m.stems.size(); ++i)
+    if (m.stems.level[i] == 4) {
+      EXPECT_EQ(m.stems.section_count[i], 3u);  // 3CurveRes = 2 segments
+      const size_t parent = static_cast<size_t>(m.stems.parent[i]);
+      EXPECT_NEAR(m.stems.length_m[i], 0.5f * (m.stems.length_m[parent] - 0.6f * m.stems.offset_m[i]), 1e-5f);
+    }
+  for (const int stem : m.leaves.stem) ASSERT_EQ(m.stems.level[static_cast<size_t>(stem)], 4);
+}
+
 TEST(WeberPenn, ZScaleScalesVertically) {
   WeberPennParams p = bare_trunk();
   p.z_scale = 0.5f;
