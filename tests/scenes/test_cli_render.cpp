@@ -44,6 +44,20 @@ TEST(CliRender, DefaultSceneWritesExrAndPng) {
     const std::string name = e.path().filename().string();
     EXPECT_TRUE(name == "out.exr" || name == "out.png" || name.ends_with(".txt")) << name;
   }
+  // Labels: the default scene has 10 instances; the target box is object 1, the trees object 2.
+  const int inst = img.find_channel("id.instance"), obj = img.find_channel("id.object");
+  float max_instance = 0;
+  bool target = false, tree = false;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      max_instance = std::max(max_instance, img.at(x, y, inst));
+      target = target || img.at(x, y, obj) == 1.0f;
+      tree = tree || img.at(x, y, obj) == 2.0f;
+    }
+  EXPECT_GE(max_instance, 5.0f);
+  EXPECT_LE(max_instance, 10.0f);
+  EXPECT_TRUE(target);
+  EXPECT_TRUE(tree);
   // Radiometric sanity: sky and ground are lit, nothing is negative or NaN in the band channels.
   const int g = img.find_channel("G"), n = img.find_channel("nir.Y");
   for (int y = 0; y < img.height; ++y)
