@@ -320,9 +320,10 @@ class Builder {
       spread = 0.5f * sign * wp::split_spread_deg(declination, s.rng.uniform());
     }
     // The stem and its clones share the children and leaves the stem would have carried over its
-    // remaining segments (as in the OpenTree port of the model), so splitting redistributes the
-    // crown instead of multiplying it; this keeps e.g. the Weeping Willow near the paper's facet
-    // counts (§5: "over 1 million facets" only when boosted).
+    // remaining segments: our reading of §4.3's "any stem that has been cloned or is, itself, a
+    // clone reduces its propensity [...] by half" (a split in two halves each one's children), as
+    // in the OpenTree port of the model. Splitting thus redistributes the crown instead of
+    // multiplying it; otherwise the Weeping Willow would carry ~7 million leaves.
     const float share = 1.0f / static_cast<float>(splits + 1);
     s.children_per_segment *= share;
     s.leaves_per_segment *= share;
