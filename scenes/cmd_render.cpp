@@ -77,6 +77,8 @@ int run_render(const RenderOptions& opt) {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   SceneFile file = opt.scene.empty() ? default_scene() : load_scene_file(opt.scene);
+  if (!opt.quiet)
+    for (const std::string& w : file.warnings) fmt::print(stderr, "{}\n", w);
   RenderSettings settings = render_settings(file);
   if (!opt.res.empty()) {
     int w = 0, h = 0;

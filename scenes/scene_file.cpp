@@ -384,6 +384,7 @@ class SceneParser {
           text << in.rdbuf();
           dependency_hash_ = hash_ids(dependency_hash_, hash_text(text.str()));
           sp = species_.emplace(file.string(), parse_species(text.str(), file)).first;
+          out_.warnings.insert(out_.warnings.end(), sp->second.warnings.begin(), sp->second.warnings.end());
         }
         TreeMesh mesh = make_species_mesh(sp->second, seed, options);
         Prototype p;

@@ -40,6 +40,7 @@ struct SceneFile {
   OutputSection output;
   std::vector<Band> custom_bands;   // [[bands]] tables: user SRFs, resolved by name before built-ins
   std::string content_hash;         // of the file text (and the species files it uses), hex
+  std::vector<std::string> warnings;  // "file:line: warning: ..." from species files it reads
 };
 
 // Throws ParseError (file:line: ...) for any mistake in the file or in files it references.
