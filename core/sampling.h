@@ -8,22 +8,12 @@
 
 namespace sylva {
 
-// Cosine-weighted direction about +Z; pdf = cos θ / π (per steradian).
+// Uniform point on the unit disc (concentric map, Shirley & Chiu 1997).
+Vec2 sample_uniform_disk(Vec2 u);
+
+// Cosine-weighted direction about +Z (Malley's method); pdf = cos θ / π (per steradian).
 inline Vec3 sample_cosine_hemisphere(Vec2 u) {
-  // Concentric map (Shirley & Chiu 1997) then Malley's method.
-  const Vec2 o = 2.0f * u - Vec2(1.0f);
-  Vec2 d(0.0f);
-  if (o.x != 0 || o.y != 0) {
-    float r, theta;
-    if (std::abs(o.x) > std::abs(o.y)) {
-      r = o.x;
-      theta = (kPi / 4) * (o.y / o.x);
-    } else {
-      r = o.y;
-      theta = kPi / 2 - (kPi / 4) * (o.x / o.y);
-    }
-    d = r * Vec2(std::cos(theta), std::sin(theta));
-  }
+  const Vec2 d = sample_uniform_disk(u);
   return {d.x, d.y, safe_sqrt(1.0f - d.x * d.x - d.y * d.y)};
 }
 inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(0.0f, cos_theta) * kInvPi; }
@@ -43,9 +33,6 @@ inline Vec3 sample_uniform_sphere(Vec2 u) {
   const float z = 1.0f - 2.0f * u.x;
   return spherical_direction(safe_sqrt(1.0f - z * z), z, kTwoPi * u.y);
 }
-
-// Uniform point on the unit disc (concentric map).
-Vec2 sample_uniform_disk(Vec2 u);
 
 // Piecewise-constant 1-D distribution over [0, 1) with n equal bins.
 class Distribution1D {

@@ -25,6 +25,17 @@ void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
+// A new vertex buffer of `g` filled with `points`.
+void set_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), points.size()));
+  for (size_t i = 0; i < points.size(); ++i) {
+    v[3 * i] = points[i].x;
+    v[3 * i + 1] = points[i].y;
+    v[3 * i + 2] = points[i].z;
+  }
+}
+
 void error_callback(void*, RTCError code, const char* message) {
   // Embree reports API misuse here; surface it as an exception at the next check.
   fmt::print(stderr, "sylva: embree error {}: {}\n", static_cast<int>(code), message ? message : "");
@@ -82,13 +93,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, bool shadow_alpha) : impl_(std::mak
     const TriangleMesh& tm = proto.triangles;
     if (!tm.triangles.empty()) {
       RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), tm.positions.size()));
-      for (size_t i = 0; i < tm.positions.size(); ++i) {
-        v[3 * i] = tm.positions[i].x;
-        v[3 * i + 1] = tm.positions[i].y;
-        v[3 * i + 2] = tm.positions[i].z;
-      }
+      set_vertices(g, tm.positions);
       auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                  3 * sizeof(unsigned), tm.triangles.size()));
       for (size_t i = 0; i < tm.triangles.size(); ++i) {
@@ -110,13 +115,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, bool shadow_alpha) : impl_(std::mak
       if (lq.corners.size() != 4 * lq.size())
         throw Error(fmt::format("prototype '{}': leaf quads need 4 corners per leaf", proto.name));
       RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), lq.corners.size()));
-      for (size_t i = 0; i < lq.corners.size(); ++i) {
-        v[3 * i] = lq.corners[i].x;
-        v[3 * i + 1] = lq.corners[i].y;
-        v[3 * i + 2] = lq.corners[i].z;
-      }
+      set_vertices(g, lq.corners);
       auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
                                                                  4 * sizeof(unsigned), lq.size()));
       for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);

@@ -2,6 +2,7 @@
 // fallback, report directory. Runs the built binary (SYLVA_BINARY) on synthetic EXRs.
 
 #include "core/image.h"
+#include "tests/support/run_command.h"
 
 #include <gtest/gtest.h>
 
@@ -19,38 +20,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::stringstream s;
-  s << std::ifstream(p).rdbuf();
-  return s.str();
-}
+using test::CommandResult;
+using test::read_text;
 
 class CompareCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("sylva_test_cmd_compare_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_dir(std::string("cmd_compare_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  CommandResult run(const std::string& args) const {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string command =
-        std::string("'") + SYLVA_BINARY + "' compare " + args + " > '" + out.string() + "' 2> '" + err.string() + "'";
-    const int status = std::system(command.c_str());
-    CommandResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    return r;
-  }
+  CommandResult run(const std::string& args) const { return test::run_sylva("compare " + args, dir_); }
   std::string path(const std::string& name) const {
     std::string quoted = "'";
     quoted += (dir_ / name).string();
@@ -174,7 +154,7 @@ TEST_F(CompareCommand, ReportDirectory) {
   for (const char* f : {"index.html", "test.exr", "ref.exr", "error.exr", "pvalue.exr", "rgb_test.png", "rgb_ref.png",
                         "rgb_diff.png", "rgb_reject.png"})
     EXPECT_TRUE(fs::exists(report / f)) << f;
-  const std::string html = slurp(report / "index.html");
+  const std::string html = read_text(report / "index.html");
   EXPECT_NE(html.find("id=\"verdict\">FAIL"), std::string::npos);
   EXPECT_NE(html.find("bright.exr"), std::string::npos);
 
