@@ -137,6 +137,18 @@ TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
   EXPECT_NE(wrong.err.find("no checkpoint"), std::string::npos) << wrong.err;
 }
 
+TEST(CliExport, FlattensTheSceneToObj) {
+  const fs::path dir = fresh_dir("cli_export");
+  const auto r = run_sylva("export --obj '" + (dir / "scene.obj").string() + "' -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string obj = read_text(dir / "scene.obj");
+  // The default scene: 2522 instanced triangles + 27000 leaf quads as two triangles each.
+  size_t faces = 0;
+  for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
+  EXPECT_EQ(faces, 2522u + 2u * 27000u);
+  EXPECT_NE(r.out.find("--vp"), std::string::npos) << r.out;  // the matching pathtracer camera
+}
+
 TEST(CliRender, HelpListsTheOptions) {
   const fs::path dir = fresh_dir("cli_help");
   const auto r = run_sylva("render --help", dir);
