@@ -41,7 +41,7 @@ constexpr const char* kCameraFile = "srf/helios_camera_nir_srf.csv";
 
 // Landsat 8/9 OLI band numbers → the SRF table's column names.
 constexpr std::pair<const char*, const char*> kLandsatBands[] = {
-    {"B1", "CoastalAerosol"}, {"B2", "Blue"}, {"B3", "Green"}, {"B4", "Red"}, {"B5", "NIR"},
+    {"B1", "CoastalAerosol"}, {"B2", "Blue"},  {"B3", "Green"}, {"B4", "Red"},    {"B5", "NIR"},
     {"B6", "SWIR1"},          {"B7", "SWIR2"}, {"B8", "Pan"},   {"B9", "Cirrus"},
 };
 
@@ -66,7 +66,8 @@ Band make_rgb_band() {
   b.channels = {"R", "G", "B"};
   for (const auto& row : m) {
     DenseSpectrum w;
-    for (int i = 0; i < kLambdaSamples; ++i) w[i] = k * (row[0] * cie_x()[i] + row[1] * cie_y()[i] + row[2] * cie_z()[i]);
+    for (int i = 0; i < kLambdaSamples; ++i)
+      w[i] = k * (row[0] * cie_x()[i] + row[1] * cie_y()[i] + row[2] * cie_z()[i]);
     b.weights.push_back(w);
   }
   b.importance = normalised(cie_x() + cie_y() + cie_z());

@@ -17,10 +17,10 @@
 namespace sylva {
 
 struct Band {
-  std::string name;                     // "rgb", "nir", "S2A_B8", ...
-  std::vector<std::string> channels;    // EXR channel names: "R","G","B" or "<name>.Y"
-  std::vector<DenseSpectrum> weights;   // w_c(λ), one per channel
-  DenseSpectrum importance;             // ≥ 0, ∫ = 1: where this band needs wavelength samples
+  std::string name;                    // "rgb", "nir", "S2A_B8", ...
+  std::vector<std::string> channels;   // EXR channel names: "R","G","B" or "<name>.Y"
+  std::vector<DenseSpectrum> weights;  // w_c(λ), one per channel
+  DenseSpectrum importance;            // ≥ 0, ∫ = 1: where this band needs wavelength samples
 };
 
 Band make_rgb_band();

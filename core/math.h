@@ -26,12 +26,13 @@ inline constexpr float kInvFourPi = 1.0f / (4.0f * kPi);
 inline constexpr float radians(float degrees) { return degrees * (kPi / 180.0f); }
 inline constexpr float degrees(float radians) { return radians * (180.0f / kPi); }
 
-template <typename T> inline constexpr T sqr(T x) { return x * x; }
+template <typename T>
+inline constexpr T sqr(T x) {
+  return x * x;
+}
 inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
 inline float safe_acos(float x) { return std::acos(std::clamp(x, -1.0f, 1.0f)); }
-inline bool is_finite(const Vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // Orthonormal frame; `z` is the normal. Built with the branchless method of
 // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
@@ -44,8 +45,7 @@ struct Frame {
     const float sign = std::copysign(1.0f, n.z);
     const float a = -1.0f / (sign + n.z);
     const float b = n.x * n.y * a;
-    return Frame{Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x),
-                 Vec3(b, sign + n.y * n.y * a, -n.y), n};
+    return Frame{Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3(b, sign + n.y * n.y * a, -n.y), n};
   }
   Vec3 to_local(const Vec3& v) const { return {glm::dot(v, x), glm::dot(v, y), glm::dot(v, z)}; }
   Vec3 to_world(const Vec3& v) const { return x * v.x + y * v.y + z * v.z; }
@@ -53,8 +53,8 @@ struct Frame {
 
 // Unit direction from spherical angles about +Z: azimuth measured from +X towards +Y.
 inline Vec3 spherical_direction(float sin_theta, float cos_theta, float phi) {
-  return {std::clamp(sin_theta, -1.0f, 1.0f) * std::cos(phi),
-          std::clamp(sin_theta, -1.0f, 1.0f) * std::sin(phi), std::clamp(cos_theta, -1.0f, 1.0f)};
+  return {std::clamp(sin_theta, -1.0f, 1.0f) * std::cos(phi), std::clamp(sin_theta, -1.0f, 1.0f) * std::sin(phi),
+          std::clamp(cos_theta, -1.0f, 1.0f)};
 }
 
 }  // namespace sylva

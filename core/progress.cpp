@@ -12,7 +12,8 @@ namespace {
 std::string format_duration(double s) {
   if (!(s >= 0) || s > 1e7) return "--:--";
   const auto t = static_cast<long>(s + 0.5);
-  return t >= 3600 ? fmt::format("{}:{:02}:{:02}", t / 3600, (t / 60) % 60, t % 60) : fmt::format("{:02}:{:02}", t / 60, t % 60);
+  return t >= 3600 ? fmt::format("{}:{:02}:{:02}", t / 3600, (t / 60) % 60, t % 60)
+                   : fmt::format("{:02}:{:02}", t / 60, t % 60);
 }
 std::string format_rate(double r) {
   if (r >= 1e6) return fmt::format("{:.2f} M", r / 1e6);
@@ -24,8 +25,12 @@ std::string format_rate(double r) {
 bool Progress::terminal_stderr() { return ::isatty(STDERR_FILENO) == 1; }
 
 Progress::Progress(std::string label, uint64_t total, bool enabled, std::string unit)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(total), enabled_(enabled && terminal_stderr()),
-      start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+    : label_(std::move(label)),
+      unit_(std::move(unit)),
+      total_(total),
+      enabled_(enabled && terminal_stderr()),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_) {}
 
 Progress::~Progress() { finish(); }
 

@@ -29,8 +29,7 @@ ProspectDTable load_prospect_d_table() {
   std::ifstream in(file);
   if (!in) throw Error("cannot open " + file.string());
   ProspectDTable t;
-  std::array<std::vector<double>*, 7> cols{&t.n,       &t.k_cab, &t.k_car, &t.k_ant,
-                                           &t.k_brown, &t.k_cw,  &t.k_cm};
+  std::array<std::vector<double>*, 7> cols{&t.n, &t.k_cab, &t.k_car, &t.k_ant, &t.k_brown, &t.k_cw, &t.k_cm};
   std::string line;
   int line_no = 0;
   while (std::getline(in, line)) {
@@ -44,8 +43,7 @@ ProspectDTable load_prospect_d_table() {
       while (p < end && (*p == ' ' || *p == '\t' || *p == ',')) ++p;
       const auto [next, ec] = std::from_chars(p, end, v[c]);
       if (ec != std::errc() || !std::isfinite(v[c]))
-        throw ParseError(file, line_no,
-                         "expected 8 numbers (lambda n k_Cab k_Car k_Anth k_Brown k_Cw k_Cm)");
+        throw ParseError(file, line_no, "expected 8 numbers (lambda n k_Cab k_Car k_Anth k_Brown k_Cw k_Cm)");
       p = next;
     }
     const int expected_nm = kFirstLambdaNm + static_cast<int>(t.lambda_nm.size());
@@ -55,9 +53,8 @@ ProspectDTable load_prospect_d_table() {
     for (size_t c = 0; c < cols.size(); ++c) cols[c]->push_back(v[c + 1]);
   }
   if (t.lambda_nm.size() != kSamples)
-    throw ParseError(
-        file, line_no,
-        "expected rows for 400..2500 nm at 1 nm, found " + std::to_string(t.lambda_nm.size()));
+    throw ParseError(file, line_no,
+                     "expected rows for 400..2500 nm at 1 nm, found " + std::to_string(t.lambda_nm.size()));
   return t;
 }
 
@@ -119,12 +116,10 @@ double prospect_tav(double alpha_deg, double n) {
   const double tp1 = -2.0 * n2 * (b - a) / (np * np);
   const double tp2 = -2.0 * n2 * np * std::log(b / a) / (nm * nm);
   const double tp3 = n2 * (1.0 / b - 1.0 / a) / 2.0;
-  const double tp4 = 16.0 * n2 * n2 * (n2 * n2 + 1.0) *
-                     std::log((2.0 * np * b - nm * nm) / (2.0 * np * a - nm * nm)) /
+  const double tp4 = 16.0 * n2 * n2 * (n2 * n2 + 1.0) * std::log((2.0 * np * b - nm * nm) / (2.0 * np * a - nm * nm)) /
                      (np * np * np * nm * nm);
-  const double tp5 = 16.0 * n2 * n2 * n2 *
-                     (1.0 / (2.0 * np * b - nm * nm) - 1.0 / (2.0 * np * a - nm * nm)) /
-                     (np * np * np);
+  const double tp5 =
+      16.0 * n2 * n2 * n2 * (1.0 / (2.0 * np * b - nm * nm) - 1.0 / (2.0 * np * a - nm * nm)) / (np * np * np);
   const double tp = tp1 + tp2 + tp3 + tp4 + tp5;
   return (ts + tp) / (2.0 * sa * sa);
 }
@@ -132,8 +127,7 @@ double prospect_tav(double alpha_deg, double n) {
 LeafOptics prospect_plate_model(std::span<const float> lambda_nm, std::span<const double> n,
                                 std::span<const double> absorption, double N) {
   if (n.size() != lambda_nm.size() || absorption.size() != lambda_nm.size())
-    throw Error(
-        "prospect_plate_model: refractive index, absorption and wavelengths differ in length");
+    throw Error("prospect_plate_model: refractive index, absorption and wavelengths differ in length");
   if (!(N >= 1.0) || !std::isfinite(N)) throw Error("PROSPECT: N must be a finite number ≥ 1");
   constexpr double kAlphaDeg = 40.0;
   LeafOptics out;
@@ -145,9 +139,7 @@ LeafOptics prospect_plate_model(std::span<const float> lambda_nm, std::span<cons
     const double kall = absorption[i];
     // Transmissivity of one plate's absorbing layer for isotropic light (Allen et al. 1969):
     // τ = (1 - K) e^{-K} + K² E1(K).
-    const double tau =
-        kall > 0 ? (1.0 - kall) * std::exp(-kall) + kall * kall * exponential_integral_e1(kall)
-                 : 1.0;
+    const double tau = kall > 0 ? (1.0 - kall) * std::exp(-kall) + kall * kall * exponential_integral_e1(kall) : 1.0;
 
     // One plate: interface transmissivities for the 40° incidence cone and for isotropic light.
     const double talf = prospect_tav(kAlphaDeg, nr);
@@ -169,8 +161,7 @@ LeafOptics prospect_plate_model(std::span<const float> lambda_nm, std::span<cons
       Tsub = t / (t + (1.0 - t) * (N - 1.0));
       Rsub = 1.0 - Tsub;
     } else {
-      const double D =
-          std::sqrt(std::max(0.0, (1 + r + t) * (1 + r - t) * (1 - r + t) * (1 - r - t)));
+      const double D = std::sqrt(std::max(0.0, (1 + r + t) * (1 + r - t) * (1 - r + t) * (1 - r - t)));
       const double rq = r * r;
       const double tq = t * t;
       const double a = (1.0 + rq - tq + D) / (2.0 * r);
@@ -200,8 +191,8 @@ LeafOptics prospect_d(const ProspectParams& p) {
   std::vector<double> kall(kSamples);
   const double N = p.N;
   for (size_t i = 0; i < kSamples; ++i)
-    kall[i] = (p.Cab * tab.k_cab[i] + p.Car * tab.k_car[i] + p.Ant * tab.k_ant[i] +
-               p.Cbrown * tab.k_brown[i] + p.Cw * tab.k_cw[i] + p.Cm * tab.k_cm[i]) /
+    kall[i] = (p.Cab * tab.k_cab[i] + p.Car * tab.k_car[i] + p.Ant * tab.k_ant[i] + p.Cbrown * tab.k_brown[i] +
+               p.Cw * tab.k_cw[i] + p.Cm * tab.k_cm[i]) /
               N;
   return prospect_plate_model(tab.lambda_nm, tab.n, kall, N);
 }

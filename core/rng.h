@@ -16,7 +16,8 @@ inline constexpr uint64_t mix64(uint64_t x) {
 }
 
 // Order-dependent hash of a seed and any number of integer ids.
-template <typename... Ids> inline constexpr uint64_t hash_ids(uint64_t seed, Ids... ids) {
+template <typename... Ids>
+inline constexpr uint64_t hash_ids(uint64_t seed, Ids... ids) {
   uint64_t h = mix64(seed);
   ((h = mix64(h ^ static_cast<uint64_t>(ids))), ...);
   return h;

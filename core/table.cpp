@@ -2,11 +2,11 @@
 
 #include "core/error.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <algorithm>
 #include <sstream>
 
 namespace sylva {
@@ -16,7 +16,7 @@ namespace {
 std::vector<std::string_view> split_fields(std::string_view line) {
   const char* seps = line.find(',') != std::string_view::npos    ? ","
                      : line.find('\t') != std::string_view::npos ? "\t"
-                                                                  : " ";
+                                                                 : " ";
   std::vector<std::string_view> fields;
   size_t start = 0;
   while (true) {
@@ -69,18 +69,20 @@ Table read_table(const std::filesystem::path& file, bool has_header, const std::
     if (!header_done) {
       t.header.assign(fields.begin(), fields.end());
       t.columns.resize(fields.size());
-      for (const auto& name : t.header) is_text.push_back(std::find(text_columns.begin(), text_columns.end(), name) != text_columns.end());
+      for (const auto& name : t.header)
+        is_text.push_back(std::find(text_columns.begin(), text_columns.end(), name) != text_columns.end());
       header_done = true;
       continue;
     }
     if (t.columns.empty()) t.columns.resize(fields.size());
     if (fields.size() != t.columns.size())
-      throw ParseError(file, line_no,
-                       "expected " + std::to_string(t.columns.size()) + " fields, found " +
-                           std::to_string(fields.size()));
+      throw ParseError(
+          file, line_no,
+          "expected " + std::to_string(t.columns.size()) + " fields, found " + std::to_string(fields.size()));
     for (size_t c = 0; c < fields.size(); ++c) {
       double v = 0;
-      if (c < is_text.size() && is_text[c]) v = std::numeric_limits<double>::quiet_NaN();
+      if (c < is_text.size() && is_text[c])
+        v = std::numeric_limits<double>::quiet_NaN();
       else if (!parse_number(fields[c], v))
         throw ParseError(file, line_no, "expected a number, found '" + std::string(fields[c]) + "'");
       t.columns[c].push_back(v);

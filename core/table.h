@@ -10,7 +10,7 @@ namespace sylva {
 
 struct Table {
   std::filesystem::path file;
-  std::vector<std::string> header;          // empty when the file has no header row
+  std::vector<std::string> header;           // empty when the file has no header row
   std::vector<std::vector<double>> columns;  // columns[c][row]
 
   // Index of the named column; throws ParseError naming the file and the columns it has.

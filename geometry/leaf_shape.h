@@ -12,10 +12,10 @@ enum class LeafShape : uint8_t {
   Rectangle = 0,  // no cut-out: the whole quad (used for tests and far-field cards)
   Oval,           // Weber & Penn LeafShape 0: an ellipse filling the quad
   Triangle,
-  Oak3,           // 3-lobe oak
-  Maple3,         // 3-lobe maple
-  Maple5,         // 5-lobe maple
-  Leaflets3,      // 3 leaflets
+  Oak3,       // 3-lobe oak
+  Maple3,     // 3-lobe maple
+  Maple5,     // 5-lobe maple
+  Leaflets3,  // 3 leaflets
   Count
 };
 

@@ -8,10 +8,14 @@ void append_mesh(TriangleMesh& dst, const TriangleMesh& src) {
   const bool keep_uvs = (dst_empty || !dst.uvs.empty()) && !src.uvs.empty();
   const auto base = static_cast<uint32_t>(dst.positions.size());
   dst.positions.insert(dst.positions.end(), src.positions.begin(), src.positions.end());
-  if (keep_normals) dst.normals.insert(dst.normals.end(), src.normals.begin(), src.normals.end());
-  else dst.normals.clear();
-  if (keep_uvs) dst.uvs.insert(dst.uvs.end(), src.uvs.begin(), src.uvs.end());
-  else dst.uvs.clear();
+  if (keep_normals)
+    dst.normals.insert(dst.normals.end(), src.normals.begin(), src.normals.end());
+  else
+    dst.normals.clear();
+  if (keep_uvs)
+    dst.uvs.insert(dst.uvs.end(), src.uvs.begin(), src.uvs.end());
+  else
+    dst.uvs.clear();
   dst.triangles.reserve(dst.triangles.size() + src.triangles.size());
   for (const glm::uvec3& t : src.triangles) dst.triangles.push_back(t + glm::uvec3(base));
 }
@@ -25,8 +29,7 @@ Bounds3 bounds_of(const TreeMesh& mesh) {
 
 float leaf_quad_area(const LeafQuads& leaves, size_t i) {
   const Vec3* c = &leaves.corners[4 * i];
-  return 0.5f * (glm::length(glm::cross(c[1] - c[0], c[2] - c[0])) +
-                 glm::length(glm::cross(c[2] - c[0], c[3] - c[0])));
+  return 0.5f * (glm::length(glm::cross(c[1] - c[0], c[2] - c[0])) + glm::length(glm::cross(c[2] - c[0], c[3] - c[0])));
 }
 
 }  // namespace sylva

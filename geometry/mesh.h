@@ -45,7 +45,10 @@ void append_mesh(TriangleMesh& dst, const TriangleMesh& src);
 struct Bounds3 {
   Vec3 lo{std::numeric_limits<float>::infinity()};
   Vec3 hi{-std::numeric_limits<float>::infinity()};
-  void extend(const Vec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+  void extend(const Vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
   bool empty() const { return lo.x > hi.x; }
 };
 Bounds3 bounds_of(const TreeMesh& mesh);

@@ -143,13 +143,10 @@ class AtomicWriter {
   static constexpr size_t kFlushBytes = 1 << 20;
 
   void flush() {
-    if (!buf_.empty() && std::fwrite(buf_.data(), 1, buf_.size(), f_) != buf_.size())
-      fail(std::strerror(errno));
+    if (!buf_.empty() && std::fwrite(buf_.data(), 1, buf_.size(), f_) != buf_.size()) fail(std::strerror(errno));
     buf_.clear();
   }
-  [[noreturn]] void fail(const std::string& why) const {
-    throw Error("cannot write " + file_.string() + ": " + why);
-  }
+  [[noreturn]] void fail(const std::string& why) const { throw Error("cannot write " + file_.string() + ": " + why); }
 
   fs::path file_;
   fs::path tmp_;
@@ -169,8 +166,7 @@ void validate(const TriangleMesh& m, const fs::path& file) {
       throw Error("cannot write " + file.string() + ": triangle index out of range");
   const auto finite2 = [](const Vec2& v) { return std::isfinite(v.x) && std::isfinite(v.y); };
   if (!std::all_of(m.positions.begin(), m.positions.end(), is_finite) ||
-      !std::all_of(m.normals.begin(), m.normals.end(), is_finite) ||
-      !std::all_of(m.uvs.begin(), m.uvs.end(), finite2))
+      !std::all_of(m.normals.begin(), m.normals.end(), is_finite) || !std::all_of(m.uvs.begin(), m.uvs.end(), finite2))
     throw Error("cannot write " + file.string() + ": non-finite vertex data");
 }
 
@@ -198,8 +194,7 @@ std::vector<Vec3> stem_normals(const TriangleMesh& m) {
   if (!m.normals.empty()) return m.normals;
   std::vector<Vec3> n(m.positions.size(), Vec3(0));
   for (const glm::uvec3& t : m.triangles) {
-    const Vec3 face =
-        glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
+    const Vec3 face = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
     n[t.x] += face;
     n[t.y] += face;
     n[t.z] += face;
@@ -211,8 +206,7 @@ std::vector<Vec3> stem_normals(const TriangleMesh& m) {
 // The normal of leaf quad i, on its upper (adaxial) side.
 Vec3 leaf_normal(const LeafQuads& leaves, size_t i) {
   const Vec3* c = &leaves.corners[4 * i];
-  return safe_normalize(glm::cross(c[1] - c[0], c[2] - c[0]) +
-                        glm::cross(c[2] - c[0], c[3] - c[0]));
+  return safe_normalize(glm::cross(c[1] - c[0], c[2] - c[0]) + glm::cross(c[2] - c[0], c[3] - c[0]));
 }
 
 constexpr std::array<Vec2, 4> kLeafUvs{Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
@@ -322,8 +316,7 @@ void write_obj(const std::filesystem::path& file, const TreeMesh& mesh) {
   }
   for (size_t s = 0; s < static_cast<size_t>(LeafShape::Count); ++s) {
     const auto shape = static_cast<LeafShape>(s);
-    if (std::find(leaves.shapes.begin(), leaves.shapes.end(), shape) == leaves.shapes.end())
-      continue;
+    if (std::find(leaves.shapes.begin(), leaves.shapes.end(), shape) == leaves.shapes.end()) continue;
     const std::string name = "leaves_" + std::string(leaf_shape_name(shape));
     w.put("g " + name + "\nusemtl " + name + "\n");
     for (size_t i = 0; i < leaves.size(); ++i) {
@@ -378,8 +371,7 @@ void write_ply(const std::filesystem::path& file, const TreeMesh& mesh) {
   const auto ns = static_cast<int32_t>(stems.positions.size());
   for (size_t i = 0; i < leaves.size(); ++i) {
     w.put_le(uint8_t{4});
-    for (int32_t k = 0; k < 4; ++k)
-      w.put_le(static_cast<int32_t>(ns + 4 * static_cast<int32_t>(i) + k));
+    for (int32_t k = 0; k < 4; ++k) w.put_le(static_cast<int32_t>(ns + 4 * static_cast<int32_t>(i) + k));
     w.put_le(static_cast<uint8_t>(leaves.shapes[i]));
     w.maybe_flush();
   }

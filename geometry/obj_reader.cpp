@@ -57,13 +57,12 @@ class ObjParser {
         vn_.push_back(n);
       } else if (keyword == "f") {
         parse_face();
-      } else if (keyword == "o" || keyword == "g" || keyword == "usemtl" || keyword == "mtllib" ||
-                 keyword == "s" || keyword == "l" || keyword == "p" || keyword == "vp") {
+      } else if (keyword == "o" || keyword == "g" || keyword == "usemtl" || keyword == "mtllib" || keyword == "s" ||
+                 keyword == "l" || keyword == "p" || keyword == "vp") {
         skip_line();
         continue;
       } else {
-        fail("unknown OBJ statement " + printable(keyword) +
-             " (expected v, vt, vn, f, o, g, s, usemtl, mtllib or #)");
+        fail("unknown OBJ statement " + printable(keyword) + " (expected v, vt, vn, f, o, g, s, usemtl, mtllib or #)");
       }
       skip_line();
     }
@@ -126,8 +125,7 @@ class ObjParser {
   void end_of_statement(std::string_view keyword) {
     skip_blanks();
     if (!at_statement_end())
-      fail("unexpected " + printable(token_here()) + " at the end of the '" + std::string(keyword) +
-           "' statement");
+      fail("unexpected " + printable(token_here()) + " at the end of the '" + std::string(keyword) + "' statement");
   }
 
   std::string_view token_here() const {
@@ -148,8 +146,7 @@ class ObjParser {
     if (*p_ == '+') ++p_;
     float value = 0.0f;
     const auto [next, ec] = std::from_chars(p_, end_, value);
-    if (ec != std::errc() || (next < end_ && !is_blank(*next) && !is_eol(*next)) ||
-        !std::isfinite(value)) {
+    if (ec != std::errc() || (next < end_ && !is_blank(*next) && !is_eol(*next)) || !std::isfinite(value)) {
       p_ = start;
       fail(std::string("expected ") + what + ", found " + printable(token_here()));
     }
@@ -163,8 +160,7 @@ class ObjParser {
     v.y = number("a vertex y after 'v'");
     v.z = number("a vertex z after 'v'");
     // Optional w, or r g b vertex colours: read and ignored.
-    for (int extra = 0; extra < 3 && has_more_on_line(); ++extra)
-      number("a number after 'v x y z'");
+    for (int extra = 0; extra < 3 && has_more_on_line(); ++extra) number("a number after 'v x y z'");
     end_of_statement("v");
     v_.push_back(v);
   }
@@ -186,11 +182,9 @@ class ObjParser {
     const char* q = p_ + (negative ? 1 : 0);
     const char* digits = q;
     int64_t i = 0;
-    while (q < end_ && static_cast<unsigned>(*q - '0') < 10u && q - digits < 18)
-      i = 10 * i + (*q++ - '0');
+    while (q < end_ && static_cast<unsigned>(*q - '0') < 10u && q - digits < 18) i = 10 * i + (*q++ - '0');
     if (q == digits || (q < end_ && static_cast<unsigned>(*q - '0') < 10u))
-      fail(std::string("expected a ") + what + " index in the face, found " +
-           printable(token_here()));
+      fail(std::string("expected a ") + what + " index in the face, found " + printable(token_here()));
     if (negative) i = -i;
     p_ = q;
     const int64_t n = static_cast<int64_t>(count);
@@ -199,8 +193,8 @@ class ObjParser {
     if (i < 0 && -i <= n) resolved = n + i;
     if (resolved < 0) {
       p_ = start;
-      fail(std::string(what) + " index " + std::to_string(i) + " out of range (" +
-           std::to_string(count) + " defined so far; OBJ indices start at 1)");
+      fail(std::string(what) + " index " + std::to_string(i) + " out of range (" + std::to_string(count) +
+           " defined so far; OBJ indices start at 1)");
     }
     return static_cast<uint32_t>(resolved);
   }
@@ -224,8 +218,7 @@ class ObjParser {
   void parse_face() {
     polygon_.clear();
     while (has_more_on_line()) polygon_.push_back(corner());
-    if (polygon_.size() < 3)
-      fail("expected at least 3 vertices in the face, found " + std::to_string(polygon_.size()));
+    if (polygon_.size() < 3) fail("expected at least 3 vertices in the face, found " + std::to_string(polygon_.size()));
     for (const Corner& c : polygon_) {
       any_vt_ |= c.vt != kNone;
       all_vt_ &= c.vt != kNone;
@@ -290,8 +283,8 @@ class ObjParser {
     mesh.triangles.resize(tri_v_.size());
     for (size_t t = 0; t < tri_v_.size(); ++t)
       for (int k = 0; k < 3; ++k)
-        mesh.triangles[t][k] = vertex_of(
-            {tri_v_[t][k], use_vt ? tri_vt_[t][k] : kNone, use_vn ? tri_vn_[t][k] : kNone});
+        mesh.triangles[t][k] =
+            vertex_of({tri_v_[t][k], use_vt ? tri_vt_[t][k] : kNone, use_vn ? tri_vn_[t][k] : kNone});
     return mesh;
   }
 

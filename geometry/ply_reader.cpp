@@ -131,20 +131,17 @@ PlyHeader parse_header(const std::filesystem::path& file, std::string_view bytes
       e.name = std::string(w[1]);
       const auto [p, ec] = std::from_chars(w[2].data(), w[2].data() + w[2].size(), e.count);
       if (ec != std::errc() || p != w[2].data() + w[2].size())
-        throw ParseError(file, line,
-                         "expected a non-negative element count, found " + printable(w[2]));
+        throw ParseError(file, line, "expected a non-negative element count, found " + printable(w[2]));
       e.line = line;
       h.elements.push_back(std::move(e));
     } else if (w[0] == "property") {
-      if (h.elements.empty())
-        throw ParseError(file, line, "expected an 'element' line before 'property'");
+      if (h.elements.empty()) throw ParseError(file, line, "expected an 'element' line before 'property'");
       PlyProperty prop;
       if (w.size() == 5 && w[1] == "list") {
         const auto ct = ply_type_from_name(w[2]);
         const auto it = ply_type_from_name(w[3]);
         if (!ct || !ply_type_is_integer(*ct))
-          throw ParseError(file, line,
-                           "expected an integer list count type, found " + printable(w[2]));
+          throw ParseError(file, line, "expected an integer list count type, found " + printable(w[2]));
         if (!it) throw ParseError(file, line, "expected a PLY type, found " + printable(w[3]));
         prop.is_list = true;
         prop.count_type = *ct;
@@ -180,8 +177,7 @@ struct ValueName {
   std::string_view element;
   uint64_t index;
   std::string str() const {
-    return std::string(part) + std::string(property) + " of " + std::string(element) + " " +
-           std::to_string(index);
+    return std::string(part) + std::string(property) + " of " + std::string(element) + " " + std::to_string(index);
   }
 };
 
@@ -194,9 +190,7 @@ class PlyData {
   bool ascii() const { return format_ == PlyFormat::Ascii; }
   size_t remaining() const { return bytes_.size() - pos_; }
 
-  double read(PlyType t, const ValueName& what) {
-    return ascii() ? read_ascii(t, what) : read_binary(t, what);
-  }
+  double read(PlyType t, const ValueName& what) { return ascii() ? read_ascii(t, what) : read_binary(t, what); }
 
   // Skips n binary values of type t, or n ascii tokens.
   void skip(PlyType t, uint64_t n, const ValueName& what) {
@@ -213,8 +207,7 @@ class PlyData {
   void finish() {
     if (!ascii()) return;
     skip_space();
-    if (pos_ < bytes_.size())
-      fail("unexpected " + printable(token()) + " after the last PLY element");
+    if (pos_ < bytes_.size()) fail("unexpected " + printable(token()) + " after the last PLY element");
   }
 
   [[noreturn]] void fail(const std::string& what) const {
@@ -242,9 +235,7 @@ class PlyData {
 
   std::string_view token() const {
     size_t q = pos_;
-    while (q < bytes_.size() && bytes_[q] != ' ' && bytes_[q] != '\t' && bytes_[q] != '\r' &&
-           bytes_[q] != '\n')
-      ++q;
+    while (q < bytes_.size() && bytes_[q] != ' ' && bytes_[q] != '\t' && bytes_[q] != '\r' && bytes_[q] != '\n') ++q;
     return bytes_.substr(pos_, q - pos_);
   }
 
@@ -296,8 +287,7 @@ class PlyData {
     std::array<unsigned char, sizeof(T)> raw;
     std::memcpy(raw.data(), bytes_.data() + pos_, sizeof(T));
     const bool file_little = format_ == PlyFormat::BinaryLittle;
-    if (file_little != (std::endian::native == std::endian::little))
-      std::reverse(raw.begin(), raw.end());
+    if (file_little != (std::endian::native == std::endian::little)) std::reverse(raw.begin(), raw.end());
     T value;
     std::memcpy(&value, raw.data(), sizeof(T));
     pos_ += sizeof(T);
@@ -357,8 +347,7 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
   const PlyElement* vertex = nullptr;
   for (const PlyElement& e : h.elements)
     if (e.name == "vertex") vertex = &e;
-  if (vertex == nullptr)
-    throw ParseError(file, 0, "expected an 'element vertex' in the PLY header");
+  if (vertex == nullptr) throw ParseError(file, 0, "expected an 'element vertex' in the PLY header");
 
   // Which vertex property feeds which attribute slot: x y z, nx ny nz, u v.
   std::array<int, 8> slot;
@@ -366,13 +355,11 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
   const std::array<const char*, 6> xyz_n{"x", "y", "z", "nx", "ny", "nz"};
   for (size_t s = 0; s < xyz_n.size(); ++s) slot[s] = find_property(*vertex, xyz_n[s]);
   if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0)
-    throw ParseError(file, vertex->line,
-                     "expected scalar properties x, y and z in 'element vertex'");
+    throw ParseError(file, vertex->line, "expected scalar properties x, y and z in 'element vertex'");
   const bool has_normals = slot[3] >= 0 && slot[4] >= 0 && slot[5] >= 0;
   bool has_uvs = false;
-  for (const auto& [u, v] :
-       {std::pair{"u", "v"}, std::pair{"s", "t"}, std::pair{"texture_u", "texture_v"},
-        std::pair{"texture_s", "texture_t"}}) {
+  for (const auto& [u, v] : {std::pair{"u", "v"}, std::pair{"s", "t"}, std::pair{"texture_u", "texture_v"},
+                             std::pair{"texture_s", "texture_t"}}) {
     if (has_uvs) break;
     slot[6] = find_property(*vertex, u);
     slot[7] = find_property(*vertex, v);
@@ -398,9 +385,7 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
         if (e.properties[i].is_list &&
             (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
           index_list = static_cast<int>(i);
-      if (index_list < 0)
-        throw ParseError(file, e.line,
-                         "expected a list property 'vertex_indices' in 'element face'");
+      if (index_list < 0) throw ParseError(file, e.line, "expected a list property 'vertex_indices' in 'element face'");
       if (!ply_type_is_integer(e.properties[index_list].type))
         throw ParseError(file, e.line, "expected an integer type for the face vertex indices");
     }
@@ -426,15 +411,14 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
             continue;
           }
           if (n < 3)
-            data.fail("expected at least 3 vertex indices in " + e.name + " " + std::to_string(k) +
-                      ", found " + std::to_string(n));
+            data.fail("expected at least 3 vertex indices in " + e.name + " " + std::to_string(k) + ", found " +
+                      std::to_string(n));
           polygon.clear();
           for (uint64_t j = 0; j < n; ++j) {
             const double idx = data.read(prop.type, what("a vertex index in "));
             if (idx < 0 || idx >= static_cast<double>(vertex_count))
-              data.fail("vertex index " + std::to_string(static_cast<int64_t>(idx)) + " in " +
-                        e.name + " " + std::to_string(k) + " out of range (" +
-                        std::to_string(vertex_count) + " vertices)");
+              data.fail("vertex index " + std::to_string(static_cast<int64_t>(idx)) + " in " + e.name + " " +
+                        std::to_string(k) + " out of range (" + std::to_string(vertex_count) + " vertices)");
             polygon.push_back(static_cast<uint32_t>(idx));
           }
           for (size_t j = 1; j + 1 < polygon.size(); ++j)
@@ -445,8 +429,7 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
         if (!is_vertex) continue;
         for (size_t s = 0; s < slot.size(); ++s) {
           if (slot[s] != static_cast<int>(pi)) continue;
-          if (!std::isfinite(static_cast<float>(v)))
-            data.fail("expected a finite float value for " + what("").str());
+          if (!std::isfinite(static_cast<float>(v))) data.fail("expected a finite float value for " + what("").str());
           values[s] = v;
         }
       }

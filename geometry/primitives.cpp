@@ -108,8 +108,10 @@ TriangleMesh make_cylinder(float radius, float height, int segments) {
     }
     for (int i = 0; i < segments; ++i) {
       const uint32_t a = centre + 1 + i;
-      if (k) m.triangles.emplace_back(centre, a, a + 1);
-      else m.triangles.emplace_back(centre, a + 1, a);
+      if (k)
+        m.triangles.emplace_back(centre, a, a + 1);
+      else
+        m.triangles.emplace_back(centre, a + 1, a);
     }
   }
   return m;
@@ -130,7 +132,7 @@ LeafQuads make_leaf_cloud(const LeafCloudParams& params, uint64_t seed) {
     const Frame f = Frame::from_z(normal);
     const float spin = kTwoPi * rng.uniform();
     const Vec3 along = std::cos(spin) * f.x + std::sin(spin) * f.y;  // petiole → tip
-    const Vec3 across = glm::cross(along, normal);  // so across × along = normal: CCW seen from above
+    const Vec3 across = glm::cross(along, normal);                   // so across × along = normal: CCW seen from above
     const Vec3 half_w = 0.5f * params.leaf_width_m * across;
     const Vec3 base = c - 0.5f * params.leaf_length_m * along;
     const Vec3 tip = c + 0.5f * params.leaf_length_m * along;

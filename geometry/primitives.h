@@ -19,7 +19,7 @@ TriangleMesh make_sphere(float radius, int rings = 24);
 TriangleMesh make_cylinder(float radius, float height, int segments = 24);
 
 struct LeafCloudParams {
-  Vec3 radii{2.0f, 2.0f, 1.5f};   // ellipsoid semi-axes the leaf centres fill uniformly, m
+  Vec3 radii{2.0f, 2.0f, 1.5f};  // ellipsoid semi-axes the leaf centres fill uniformly, m
   int count = 2000;
   float leaf_length_m = 0.12f;
   float leaf_width_m = 0.07f;

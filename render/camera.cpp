@@ -13,7 +13,8 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : desc_(desc), wid
   if (glm::length(x) < 1e-6f) throw Error("camera up vector is parallel to the view direction");
   x = glm::normalize(x);
   frame_ = Frame{x, glm::cross(x, z), z};
-  if (!(desc.vfov_deg > 0 && desc.vfov_deg < 180)) throw Error("camera vertical field of view must be in (0, 180) degrees");
+  if (!(desc.vfov_deg > 0 && desc.vfov_deg < 180))
+    throw Error("camera vertical field of view must be in (0, 180) degrees");
   tan_half_ = std::tan(0.5f * radians(desc.vfov_deg));
   aspect_ = static_cast<float>(width) / static_cast<float>(height);
   focus_ = desc.focus_distance_m > 0 ? desc.focus_distance_m : glm::length(forward);

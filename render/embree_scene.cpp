@@ -116,8 +116,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, bool shadow_alpha) : impl_(std::mak
         throw Error(fmt::format("prototype '{}': leaf quads need 4 corners per leaf", proto.name));
       RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
       set_vertices(g, lq.corners);
-      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4,
-                                                                 4 * sizeof(unsigned), lq.size()));
+      auto* idx = static_cast<unsigned*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), lq.size()));
       for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);
       rtcSetGeometryUserData(g, const_cast<LeafShape*>(lq.shapes.data()));
       rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter);

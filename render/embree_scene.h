@@ -15,9 +15,9 @@ namespace sylva {
 struct RayHit {
   float t = 0;
   uint32_t instance = 0;
-  bool leaf = false;     // hit a leaf quad (else a triangle)
+  bool leaf = false;  // hit a leaf quad (else a triangle)
   uint32_t primitive = 0;
-  float u = 0, v = 0;    // Embree's barycentrics (triangles) or quad coordinates (leaves)
+  float u = 0, v = 0;  // Embree's barycentrics (triangles) or quad coordinates (leaves)
 };
 
 struct EmbreeStats {

@@ -12,18 +12,28 @@ namespace sylva {
 namespace {
 constexpr char kMagic[8] = {'S', 'Y', 'L', 'V', 'A', 'C', 'K', '1'};
 
-template <typename T> void write_pod(std::ofstream& out, const T& v) { out.write(reinterpret_cast<const char*>(&v), sizeof(T)); }
-template <typename T> void read_pod(std::ifstream& in, T& v) { in.read(reinterpret_cast<char*>(&v), sizeof(T)); }
-template <typename T> void write_vec(std::ofstream& out, const std::vector<T>& v) {
+template <typename T>
+void write_pod(std::ofstream& out, const T& v) {
+  out.write(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+template <typename T>
+void read_pod(std::ifstream& in, T& v) {
+  in.read(reinterpret_cast<char*>(&v), sizeof(T));
+}
+template <typename T>
+void write_vec(std::ofstream& out, const std::vector<T>& v) {
   out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
-template <typename T> void read_vec(std::ifstream& in, std::vector<T>& v) {
+template <typename T>
+void read_vec(std::ifstream& in, std::vector<T>& v) {
   in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
 }  // namespace
 
 Film::Film(int width, int height, int channels)
-    : width_(width), height_(height), channels_(channels),
+    : width_(width),
+      height_(height),
+      channels_(channels),
       sum_(static_cast<size_t>(width) * height * channels, 0.0),
       sum_sq_(static_cast<size_t>(width) * height * channels, 0.0),
       count_(static_cast<size_t>(width) * height, 0u) {}
@@ -87,7 +97,8 @@ Film Film::load(const std::filesystem::path& file, const std::string& key) {
   std::string stored(key_size, '\0');
   in.read(stored.data(), static_cast<std::streamsize>(key_size));
   if (stored != key)
-    throw Error(file.string() + ": checkpoint is of a different render (scene, seed, resolution, bands or depth differ)");
+    throw Error(file.string() +
+                ": checkpoint is of a different render (scene, seed, resolution, bands or depth differ)");
   int32_t w = 0, h = 0, c = 0;
   read_pod(in, w);
   read_pod(in, h);

@@ -41,7 +41,9 @@ class Film {
   static Film load(const std::filesystem::path& file, const std::string& key);
 
  private:
-  size_t pixel(int x, int y) const { return static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x); }
+  size_t pixel(int x, int y) const {
+    return static_cast<size_t>(y) * static_cast<size_t>(width_) + static_cast<size_t>(x);
+  }
 
   int width_ = 0, height_ = 0, channels_ = 0;
   std::vector<double> sum_, sum_sq_;

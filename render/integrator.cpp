@@ -76,7 +76,8 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
   return si;
 }
 
-SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first, uint64_t& rays) const {
+SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first,
+                                     uint64_t& rays) const {
   SampledSpectrum L(0.0f), beta(1.0f);
   float prev_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that produced `ray`; 0 = camera ray
   for (int depth = 0;; ++depth) {
@@ -121,9 +122,11 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
         // The geometric and shading sides must agree, or light would leak through the surface.
         if ((wi_local.z > 0) == !transmits && cos_g != 0) {
           const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
-          if (!is_black(f) && ++rays && !embree_.occluded(offset_ray_origin(si.p, transmits ? -ng : ng), ls.wi,
-                                               std::numeric_limits<float>::infinity())) {
-            const float w = settings_.fault_mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
+          if (!is_black(f) && ++rays &&
+              !embree_.occluded(offset_ray_origin(si.p, transmits ? -ng : ng), ls.wi,
+                                std::numeric_limits<float>::infinity())) {
+            const float w =
+                settings_.fault_mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
             L += beta * f * std::abs(wi_local.z) * ls.radiance * (w / ls.pdf);
           }
         }

@@ -13,8 +13,8 @@
 namespace sylva {
 
 struct IntegratorSettings {
-  int max_depth = 16;        // scattering events per path
-  int rr_start_depth = 3;    // Russian roulette from this bounce on
+  int max_depth = 16;      // scattering events per path
+  int rr_start_depth = 3;  // Russian roulette from this bounce on
   // Fault injection for the golden suite's power tests (tests/scenes/test_golden.cpp), which
   // prove that `sylva compare` catches a real regression. Never set in production renders.
   bool fault_mis_weight_one = false;  // NEE and BSDF sampling both weighted 1 (double counts)
@@ -23,8 +23,8 @@ struct IntegratorSettings {
 // A surface point as the integrator sees it (world space).
 struct SurfaceInteraction {
   Vec3 p;
-  Vec3 ng;          // geometric normal, unit; for leaves the upper (adaxial) side
-  Vec3 ns;          // shading normal, unit, on the same side as ng
+  Vec3 ng;  // geometric normal, unit; for leaves the upper (adaxial) side
+  Vec3 ns;  // shading normal, unit, on the same side as ng
   uint32_t material = 0;
   uint32_t instance = 0;
   bool leaf = false;

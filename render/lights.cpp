@@ -69,7 +69,8 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
   // Sun: a uniform disc whose radiance gives the irradiance at normal incidence, E = π L sin²α.
   float sun_power = 0;
   if (sun.enabled) {
-    if (!(sun.angular_radius_deg > 0 && sun.angular_radius_deg < 10)) throw Error("sun: angular radius must be in (0, 10) degrees");
+    if (!(sun.angular_radius_deg > 0 && sun.angular_radius_deg < 10))
+      throw Error("sun: angular radius must be in (0, 10) degrees");
     sun_frame_ = Frame::from_z(sun_dir);
     sun_one_minus_cos_ = one_minus_cos(radians(sun.angular_radius_deg));
     sun_radiance_ = sun.irradiance;

@@ -43,9 +43,9 @@ struct SkyDesc {
 float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir);
 
 struct LightSample {
-  Vec3 wi;                  // world direction towards the light
+  Vec3 wi;  // world direction towards the light
   SampledSpectrum radiance;
-  float pdf = 0;            // solid angle, of the whole mixture
+  float pdf = 0;  // solid angle, of the whole mixture
 };
 
 class Environment {

@@ -11,8 +11,8 @@ namespace {
 
 void check_range(const std::string& name, const char* what, const DenseSpectrum& s) {
   if (s.min_value() < 0.0f || s.max_value() > 1.0f)
-    throw Error(fmt::format("material '{}': {} must lie in [0, 1] (found {:.4g} .. {:.4g})", name, what,
-                            s.min_value(), s.max_value()));
+    throw Error(fmt::format("material '{}': {} must lie in [0, 1] (found {:.4g} .. {:.4g})", name, what, s.min_value(),
+                            s.max_value()));
 }
 
 void check_sum(const std::string& name, const DenseSpectrum& r, const DenseSpectrum& t, const char* face) {

@@ -42,7 +42,8 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
                             uint64_t& rays) const {
   const size_t nc = channels_.size();
   float values[2 * 64];
-  const uint64_t pixel_id = static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
+  const uint64_t pixel_id =
+      static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
   for (uint32_t s = first_sample; s < end_sample; ++s) {
     Pcg32 rng(hash_ids(settings_.seed, pixel_id, s));
     const Vec2 film_pos(static_cast<float>(x) + rng.uniform(), static_cast<float>(y) + rng.uniform());
@@ -152,7 +153,8 @@ Image Renderer::make_image(const Film& film) const {
       for (int x = 0; x < film.width(); ++x) {
         for (size_t c = 0; c < nc; ++c) {
           image.at(x, y, static_cast<int>(c)) = static_cast<float>(film.mean(x, y, static_cast<int>(c)));
-          image.at(x, y, static_cast<int>(nc + c)) = static_cast<float>(film.variance_of_mean(x, y, static_cast<int>(c)));
+          image.at(x, y, static_cast<int>(nc + c)) =
+              static_cast<float>(film.variance_of_mean(x, y, static_cast<int>(c)));
           image.at(x, y, static_cast<int>(2 * nc + c)) = static_cast<float>(film.mean(x, y, static_cast<int>(nc + c)));
         }
         // First-hit AOVs through the pixel centre (pinhole ray: labels are not blurred).

@@ -22,14 +22,14 @@ namespace sylva {
 struct RenderSettings {
   int width = 640;
   int height = 360;
-  int spp = 64;              // samples per pixel to reach
+  int spp = 64;  // samples per pixel to reach
   uint64_t seed = 1;
-  int threads = 0;           // 0 = all hardware threads
+  int threads = 0;  // 0 = all hardware threads
   int tile_size = 16;
-  std::vector<Band> bands;   // at least one
+  std::vector<Band> bands;  // at least one
   IntegratorSettings integrator;
   bool fault_no_shadow_alpha = false;  // fault injection (golden power tests): see EmbreeScene
-  bool progress = true;      // progress bar on stderr (only when stderr is a terminal)
+  bool progress = true;                // progress bar on stderr (only when stderr is a terminal)
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;
 };
@@ -71,9 +71,9 @@ class Renderer {
   std::unique_ptr<Integrator> integrator_;
   Camera camera_;
   WavelengthSampler wavelengths_;
-  std::vector<std::string> channels_;        // radiance channel names, band after band
-  std::vector<const DenseSpectrum*> weights_; // w_c(λ) per radiance channel
-  std::vector<float> weight_integrals_;      // ∫ w_c dλ, to normalise the albedo AOV
+  std::vector<std::string> channels_;          // radiance channel names, band after band
+  std::vector<const DenseSpectrum*> weights_;  // w_c(λ) per radiance channel
+  std::vector<float> weight_integrals_;        // ∫ w_c dλ, to normalise the albedo AOV
 };
 
 }  // namespace sylva

@@ -58,7 +58,8 @@ std::vector<std::string> split_list(const std::string& s) {
 
 // Exposure for the preview: the median luminance of the visible band maps to 18% grey.
 float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& channels) {
-  const int r = image.find_channel(channels[0]), g = image.find_channel(channels[1]), b = image.find_channel(channels[2]);
+  const int r = image.find_channel(channels[0]), g = image.find_channel(channels[1]),
+            b = image.find_channel(channels[2]);
   std::vector<float> lum;
   lum.reserve(static_cast<size_t>(image.width) * image.height);
   for (int y = 0; y < image.height; ++y)
@@ -112,11 +113,14 @@ int run_render(const RenderOptions& opt) {
   Renderer renderer(file.scene, settings);
   const EmbreeStats& es = renderer.embree_stats();
   if (!opt.quiet)
-    fmt::print(stderr, "scene: {} instances, {} unique triangles + {} leaf quads ({} + {} instanced); BVH {:.1f} MiB in {:.0f} ms\n",
-               es.instances, es.triangles, es.leaf_quads, es.instanced_triangles, es.instanced_leaf_quads,
-               es.bvh_bytes / 1048576.0, es.build_ms);
+    fmt::print(
+        stderr,
+        "scene: {} instances, {} unique triangles + {} leaf quads ({} + {} instanced); BVH {:.1f} MiB in {:.0f} ms\n",
+        es.instances, es.triangles, es.leaf_quads, es.instanced_triangles, es.instanced_leaf_quads,
+        es.bvh_bytes / 1048576.0, es.build_ms);
   Film film = opt.resume ? Film::load(checkpoint, key) : renderer.make_film();
-  if (opt.resume && !opt.quiet) fmt::print(stderr, "resuming from {} ({} samples)\n", checkpoint.string(), film.total_samples());
+  if (opt.resume && !opt.quiet)
+    fmt::print(stderr, "resuming from {} ({} samples)\n", checkpoint.string(), film.total_samples());
 
   // Render in rounds: stop for a periodic checkpoint, or for good on SIGINT/SIGTERM.
   RenderStats total;
@@ -145,8 +149,10 @@ int run_render(const RenderOptions& opt) {
     if (g_interrupted) {
       std::signal(SIGINT, SIG_DFL);
       std::signal(SIGTERM, SIG_DFL);
-      fmt::print(stderr, "\ninterrupted: checkpoint with {} samples written to {}; continue with the same command and --resume\n",
-                 film.total_samples(), checkpoint.string());
+      fmt::print(
+          stderr,
+          "\ninterrupted: checkpoint with {} samples written to {}; continue with the same command and --resume\n",
+          film.total_samples(), checkpoint.string());
       return 130;
     }
   }
@@ -170,7 +176,8 @@ int run_render(const RenderOptions& opt) {
   std::filesystem::remove(checkpoint);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!opt.quiet)
-    fmt::print(stderr, "wrote {}{}: {} samples in {:.2f} s render ({:.2f} s total): {:.3f} M samples/s, {:.3f} M rays/s\n",
+    fmt::print(stderr,
+               "wrote {}{}: {} samples in {:.2f} s render ({:.2f} s total): {:.3f} M samples/s, {:.3f} M rays/s\n",
                exr.string(), png.empty() ? "" : " and " + png.string(), total.samples, total.seconds, wall,
                total.samples / std::max(1e-9, total.seconds) / 1e6, total.rays / std::max(1e-9, total.seconds) / 1e6);
   return 0;
@@ -190,10 +197,12 @@ CommandRun add_render_command(CLI::App& parent) {
   cmd->add_option("--seed", opt->seed, "Random seed")->check(CLI::Range(int64_t{0}, INT64_MAX));
   cmd->add_option("--bands", opt->bands, "Comma-separated bands, e.g. rgb,nir,S2A_B8");
   cmd->add_option("--max-depth", opt->max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
-  cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes, "Write a checkpoint this often (0 = only on interrupt)")
+  cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes,
+                  "Write a checkpoint this often (0 = only on interrupt)")
       ->check(CLI::Range(0.0, 1e6));
-  cmd->add_option("--exposure", opt->exposure, "Preview exposure offset in stops")
-      ->each([opt](const std::string&) { opt->exposure_set = true; });
+  cmd->add_option("--exposure", opt->exposure, "Preview exposure offset in stops")->each([opt](const std::string&) {
+    opt->exposure_set = true;
+  });
   cmd->add_option("--view", opt->view, "Preview view transform (Standard, ACES, Raw)");
   cmd->add_flag("--resume", opt->resume, "Continue from OUT.exr.checkpoint (left by an interrupted render)");
   cmd->add_flag("-q,--quiet", opt->quiet, "No progress bar or summary");

@@ -33,8 +33,9 @@ GoldenRecord read_golden_record(const std::filesystem::path& file) {
   text << in.rdbuf();
   TomlReader r(file.string());
   const toml::table t = r.parse(text.str());
-  r.check_keys(t, {"reference_spp", "reference_seed", "check_spp", "check_seed", "determinism_spp", "determinism_seed",
-                   "determinism_hash", "scene_hash", "version"},
+  r.check_keys(t,
+               {"reference_spp", "reference_seed", "check_spp", "check_seed", "determinism_spp", "determinism_seed",
+                "determinism_hash", "scene_hash", "version"},
                "a golden record");
   GoldenRecord g;
   g.reference_spp = static_cast<int>(r.integer(t, "reference_spp", g.reference_spp, 1, 1 << 24));
@@ -108,9 +109,10 @@ GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(Rend
   const GoldenRecord g = read_golden_record(c.record);
   SceneFile file = load_scene_file(c.scene);
   if (!g.scene_hash.empty() && g.scene_hash != file.content_hash)
-    throw Error(fmt::format("{}: the scene changed since its reference was rendered (hash {} vs {}); review it and "
-                            "run `sylva golden update --only {}`",
-                            c.scene.string(), file.content_hash, g.scene_hash, c.name));
+    throw Error(
+        fmt::format("{}: the scene changed since its reference was rendered (hash {} vs {}); review it and "
+                    "run `sylva golden update --only {}`",
+                    c.scene.string(), file.content_hash, g.scene_hash, c.name));
   if (modify) modify(file.scene);
   const Image ref = read_exr(c.reference);
   GoldenCheck out;

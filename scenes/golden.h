@@ -42,7 +42,7 @@ struct GoldenCase {
 // The cases under `golden_dir` (one per golden/scenes/*.toml), sorted by name.
 std::vector<GoldenCase> list_golden_cases(const std::filesystem::path& golden_dir);
 
-GoldenRecord read_golden_record(const std::filesystem::path& file);  // throws ParseError
+GoldenRecord read_golden_record(const std::filesystem::path& file);                       // throws ParseError
 void write_golden_record(const std::filesystem::path& file, const GoldenRecord& record);  // atomic
 
 // Hash of an image's channel names and pixel bits (FNV-1a 64, hex): equal iff bit-identical.

@@ -37,7 +37,8 @@ class SceneParser {
   SceneParser(TomlReader& reader, std::filesystem::path base_dir) : r_(reader), base_dir_(std::move(base_dir)) {}
 
   SceneFile parse(const toml::table& root) {
-    r_.check_keys(root, {"camera", "sun", "sky", "materials", "meshes", "trees", "render", "output", "bands"}, "the scene");
+    r_.check_keys(root, {"camera", "sun", "sky", "materials", "meshes", "trees", "render", "output", "bands"},
+                  "the scene");
     parse_render(root);
     parse_bands(root);
     parse_camera(root);
@@ -63,8 +64,8 @@ class SceneParser {
     }
     if (!base_dir_.empty() && std::filesystem::exists(base_dir_ / p)) return base_dir_ / p;
     if (std::filesystem::exists(data_dir() / p)) return data_dir() / p;
-    r_.fail(at, "file not found: " + rel + " (looked in " + (base_dir_.empty() ? std::string("") : base_dir_.string() + " and ") +
-                    data_dir().string() + ")");
+    r_.fail(at, "file not found: " + rel + " (looked in " +
+                    (base_dir_.empty() ? std::string("") : base_dir_.string() + " and ") + data_dir().string() + ")");
   }
 
   // A spectrum: a number (constant), a builtin name, {file, column}, or {lambda_nm, value}.
@@ -205,7 +206,8 @@ class SceneParser {
           if (!refl) r_.fail(*m, "diffuse material '" + name + "' needs a reflectance");
           add_material(name, make_diffuse(name, spectrum(*refl, Extrapolate::Clamp)), *m);
         } else if (type == "leaf") {
-          r_.check_keys(*m, {"type", "reflectance", "transmittance", "back_reflectance", "back_transmittance", "prospect"},
+          r_.check_keys(*m,
+                        {"type", "reflectance", "transmittance", "back_reflectance", "back_transmittance", "prospect"},
                         "a leaf material");
           add_material(name, leaf_material(name, *m), *m);
         } else {
@@ -234,17 +236,21 @@ class SceneParser {
         r_.fail(m, "give either prospect = {...} or reflectance/transmittance, not both");
       const LeafOptics o = prospect_d(pp);
       const std::vector<double> l(o.lambda_nm.begin(), o.lambda_nm.end());
-      const DenseSpectrum rho = DenseSpectrum::from_samples(l, {o.reflectance.begin(), o.reflectance.end()}, Extrapolate::Clamp);
-      const DenseSpectrum tau = DenseSpectrum::from_samples(l, {o.transmittance.begin(), o.transmittance.end()}, Extrapolate::Clamp);
+      const DenseSpectrum rho =
+          DenseSpectrum::from_samples(l, {o.reflectance.begin(), o.reflectance.end()}, Extrapolate::Clamp);
+      const DenseSpectrum tau =
+          DenseSpectrum::from_samples(l, {o.transmittance.begin(), o.transmittance.end()}, Extrapolate::Clamp);
       return make_leaf(name, rho, tau);
     }
     const toml::node* rn = m.get("reflectance");
     const toml::node* tn = m.get("transmittance");
-    if (!rn || !tn) r_.fail(m, "leaf material '" + name + "' needs reflectance and transmittance (or prospect = {...})");
+    if (!rn || !tn)
+      r_.fail(m, "leaf material '" + name + "' needs reflectance and transmittance (or prospect = {...})");
     const DenseSpectrum rf = spectrum(*rn, Extrapolate::Clamp), tf = spectrum(*tn, Extrapolate::Clamp);
     const toml::node* rb = m.get("back_reflectance");
     const toml::node* tb = m.get("back_transmittance");
-    return make_leaf(name, rf, tf, rb ? spectrum(*rb, Extrapolate::Clamp) : rf, tb ? spectrum(*tb, Extrapolate::Clamp) : tf);
+    return make_leaf(name, rf, tf, rb ? spectrum(*rb, Extrapolate::Clamp) : rf,
+                     tb ? spectrum(*tb, Extrapolate::Clamp) : tf);
   }
 
   void add_material(const std::string& name, Material m, const toml::node& at) {
@@ -269,8 +275,10 @@ class SceneParser {
     const Vec3 rotate = r_.vec3(t, "rotate", Vec3(0.0f));
     Vec3 scale(1.0f);
     if (const toml::node* s = t.get("scale")) {
-      if (s->is_number()) scale = Vec3(static_cast<float>(*s->value<double>()));
-      else scale = r_.vec3(t, "scale", scale);
+      if (s->is_number())
+        scale = Vec3(static_cast<float>(*s->value<double>()));
+      else
+        scale = r_.vec3(t, "scale", scale);
       if (scale.x <= 0 || scale.y <= 0 || scale.z <= 0) r_.fail(*s, "scale must be positive");
     }
     Mat4 m = glm::translate(Mat4(1.0f), translate);
@@ -286,10 +294,9 @@ class SceneParser {
     for (const toml::node& n : *a) {
       const toml::table* t = n.as_table();
       if (!t) r_.fail(n, "expected a table in [[meshes]]");
-      r_.check_keys(*t,
-                    {"name", "shape", "file", "material", "size", "radius", "height", "segments", "tiles", "count",
-                     "leaf_length", "leaf_width", "leaf_shape", "seed", "radii", "translate", "rotate", "scale",
-                     "object_id", "instances"},
+      r_.check_keys(*t, {"name",     "shape",     "file",   "material",    "size",       "radius",     "height",
+                         "segments", "tiles",     "count",  "leaf_length", "leaf_width", "leaf_shape", "seed",
+                         "radii",    "translate", "rotate", "scale",       "object_id",  "instances"},
                     "[[meshes]]");
       Prototype p;
       p.name = r_.string(*t, "name", fmt::format("mesh{}", out_.scene.prototypes.size()));
@@ -307,10 +314,12 @@ class SceneParser {
         } else if (shape == "box") {
           p.triangles = make_box(r_.vec3(*t, "size", Vec3(1.0f)));
         } else if (shape == "sphere") {
-          p.triangles = make_sphere(r_.number_in(*t, "radius", 1.0, 1e-6, 1e6), r_.integer(*t, "segments", 24, 3, 4096));
+          p.triangles =
+              make_sphere(r_.number_in(*t, "radius", 1.0, 1e-6, 1e6), r_.integer(*t, "segments", 24, 3, 4096));
         } else if (shape == "cylinder") {
-          p.triangles = make_cylinder(r_.number_in(*t, "radius", 0.1, 1e-6, 1e6), r_.number_in(*t, "height", 1.0, 1e-6, 1e6),
-                                      r_.integer(*t, "segments", 24, 3, 4096));
+          p.triangles =
+              make_cylinder(r_.number_in(*t, "radius", 0.1, 1e-6, 1e6), r_.number_in(*t, "height", 1.0, 1e-6, 1e6),
+                            r_.integer(*t, "segments", 24, 3, 4096));
         } else if (shape == "leaf_cloud") {
           LeafCloudParams lc;
           lc.radii = r_.vec3(*t, "radii", lc.radii);
@@ -342,8 +351,8 @@ class SceneParser {
         const toml::table* it = in.as_table();
         if (!it) r_.fail(in, "expected a table { translate, rotate, scale, object_id } in instances");
         r_.check_keys(*it, {"translate", "rotate", "scale", "object_id"}, "an instance");
-        out_.scene.instances.push_back(
-            Instance{proto, transform(*it) * base, static_cast<uint32_t>(r_.integer(*it, "object_id", object_id, 0, 1 << 24))});
+        out_.scene.instances.push_back(Instance{
+            proto, transform(*it) * base, static_cast<uint32_t>(r_.integer(*it, "object_id", object_id, 0, 1 << 24))});
       }
     } else {
       out_.scene.instances.push_back(Instance{proto, base, object_id});
@@ -359,8 +368,8 @@ class SceneParser {
       const toml::table* t = n.as_table();
       if (!t) r_.fail(n, "expected a table in [[trees]]");
       r_.check_keys(*t,
-                    {"name", "species", "seed", "bark", "leaf", "quality", "time", "wind", "translate", "rotate", "scale",
-                     "object_id", "instances"},
+                    {"name", "species", "seed", "bark", "leaf", "quality", "time", "wind", "translate", "rotate",
+                     "scale", "object_id", "instances"},
                     "[[trees]]");
       const std::string species_name = r_.string(*t, "species");
       const std::filesystem::path file = resolve(*t->get("species"), species_name);
@@ -373,8 +382,8 @@ class SceneParser {
       options.wind_gust = wind.y;
       const uint64_t seed = static_cast<uint64_t>(r_.integer(*t, "seed", 1, 0, INT64_MAX));
       const uint32_t bark = material_ref(*t, "bark"), leaf = material_ref(*t, "leaf");
-      const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
-                                          options.wind_speed, options.wind_gust, bark, leaf);
+      const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality,
+                                          options.time_s, options.wind_speed, options.wind_gust, bark, leaf);
       auto it = tree_prototypes_.find(key);
       if (it == tree_prototypes_.end()) {
         auto sp = species_.find(file.string());

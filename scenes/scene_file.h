@@ -34,12 +34,12 @@ struct OutputSection {
 };
 
 struct SceneFile {
-  std::filesystem::path path;       // empty for the built-in default scene
+  std::filesystem::path path;  // empty for the built-in default scene
   Scene scene;
   RenderSection render;
   OutputSection output;
-  std::vector<Band> custom_bands;   // [[bands]] tables: user SRFs, resolved by name before built-ins
-  std::string content_hash;         // of the file text (and the species files it uses), hex
+  std::vector<Band> custom_bands;     // [[bands]] tables: user SRFs, resolved by name before built-ins
+  std::string content_hash;           // of the file text (and the species files it uses), hex
   std::vector<std::string> warnings;  // "file:line: warning: ..." from species files it reads
 };
 

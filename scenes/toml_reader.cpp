@@ -18,7 +18,9 @@ toml::table TomlReader::parse(std::string_view text) const {
   }
 }
 
-void TomlReader::fail(const toml::node& at, const std::string& what) const { throw ParseError(file_, line_of(at), what); }
+void TomlReader::fail(const toml::node& at, const std::string& what) const {
+  throw ParseError(file_, line_of(at), what);
+}
 void TomlReader::fail_line(int line, const std::string& what) const { throw ParseError(file_, line, what); }
 
 void TomlReader::check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed,
@@ -89,7 +91,8 @@ float TomlReader::number_in(const toml::table& t, std::string_view key, double f
   return static_cast<float>(v);
 }
 
-int64_t TomlReader::integer(const toml::table& t, std::string_view key, int64_t fallback, int64_t lo, int64_t hi) const {
+int64_t TomlReader::integer(const toml::table& t, std::string_view key, int64_t fallback, int64_t lo,
+                            int64_t hi) const {
   const toml::node* n = t.get(key);
   if (!n) return fallback;
   if (!n->is_integer()) fail(*n, fmt::format("'{}' must be an integer", key));

@@ -39,7 +39,7 @@ class TomlReader {
   double number(const toml::table& t, std::string_view key, double fallback) const;
   float number_in(const toml::table& t, std::string_view key, double fallback, double lo, double hi) const;
   int64_t integer(const toml::table& t, std::string_view key, int64_t fallback, int64_t lo, int64_t hi) const;
-  std::vector<double> numbers(const toml::table& t, std::string_view key) const;  // required array
+  std::vector<double> numbers(const toml::table& t, std::string_view key) const;       // required array
   std::vector<std::string> strings(const toml::table& t, std::string_view key) const;  // required array
   Vec2 vec2(const toml::table& t, std::string_view key, Vec2 fallback) const;
   Vec3 vec3(const toml::table& t, std::string_view key, Vec3 fallback) const;

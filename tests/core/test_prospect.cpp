@@ -147,9 +147,7 @@ TEST(Prospect, PlateModelMatchesProspect5Reference) {
     std::vector<double> n(2101), k(2101);
     for (size_t i = 0; i < 2101; ++i) {
       n[i] = tab[i][0];
-      k[i] = (r.Cab * tab[i][1] + r.Car * tab[i][2] + r.Cbrown * tab[i][3] + r.Cw * tab[i][4] +
-              r.Cm * tab[i][5]) /
-             r.N;
+      k[i] = (r.Cab * tab[i][1] + r.Car * tab[i][2] + r.Cbrown * tab[i][3] + r.Cw * tab[i][4] + r.Cm * tab[i][5]) / r.N;
     }
     const LeafOptics o = prospect_plate_model(grid_400_2500(), n, k, r.N);
     for (const auto& [nm, expected] : r.values) {
@@ -166,9 +164,8 @@ TEST(Prospect, PlateModelMatchesProspectProMatlabOracle) {
   // Official Matlab PROSPECT-PRO: N 1.2, Cab 30, Car 10, Ant 1, Cbrown 0, Cw 0.015, Cm 0.009,
   // Prot 0.001, CBC 0.009 (the oracle run includes all three dry-matter terms).
   const auto tab = read_numbers(kShared + "/data/prospect/dataSpec_PRO.txt");
-  const auto ref = read_numbers(
-      kShared +
-      "/data/prospect/prospect_pro_matlab_reference_N1.2_Cab30_Car10_Ant1_Cw0.015_Cm0.009.txt");
+  const auto ref =
+      read_numbers(kShared + "/data/prospect/prospect_pro_matlab_reference_N1.2_Cab30_Car10_Ant1_Cw0.015_Cm0.009.txt");
   ASSERT_EQ(tab.size(), 2101u);
   ASSERT_EQ(ref.size(), 2101u);
   const double N = 1.2;
@@ -176,9 +173,8 @@ TEST(Prospect, PlateModelMatchesProspectProMatlabOracle) {
   for (size_t i = 0; i < 2101; ++i) {
     const auto& c = tab[i];  // lambda n CHL CAR ANT BROWN EWT LMA PROT CBC
     n[i] = c[1];
-    k[i] = (30 * c[2] + 10 * c[3] + 1 * c[4] + 0 * c[5] + 0.015 * c[6] + 0.009 * c[7] +
-            0.001 * c[8] + 0.009 * c[9]) /
-           N;
+    k[i] =
+        (30 * c[2] + 10 * c[3] + 1 * c[4] + 0 * c[5] + 0.015 * c[6] + 0.009 * c[7] + 0.001 * c[8] + 0.009 * c[9]) / N;
   }
   const LeafOptics o = prospect_plate_model(grid_400_2500(), n, k, N);
   double max_err = 0;
@@ -212,8 +208,7 @@ TEST(Prospect, NoAbsorptionConservesEnergy) {
   ProspectParams p;
   p.Cab = p.Car = p.Ant = p.Cbrown = p.Cw = p.Cm = 0;
   const LeafOptics o = prospect_d(p);
-  for (size_t i = 0; i < o.lambda_nm.size(); ++i)
-    EXPECT_NEAR(o.reflectance[i] + o.transmittance[i], 1.0f, 1e-5f);
+  for (size_t i = 0; i < o.lambda_nm.size(); ++i) EXPECT_NEAR(o.reflectance[i] + o.transmittance[i], 1.0f, 1e-5f);
 }
 
 TEST(Prospect, MoreChlorophyllDarkensGreen) {

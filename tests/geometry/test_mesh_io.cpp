@@ -29,8 +29,7 @@ class MeshIo : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("sylva_mesh_io_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("sylva_mesh_io_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -122,8 +121,8 @@ TreeMesh make_tree() {
     t.stems.triangles.push_back({k, k1, 4 + k1});
     t.stems.triangles.push_back({k, 4 + k1, 4 + k});
   }
-  const std::array<LeafShape, 5> shapes{LeafShape::Oval, LeafShape::Maple5, LeafShape::Oval,
-                                        LeafShape::Maple5, LeafShape::Oval};
+  const std::array<LeafShape, 5> shapes{LeafShape::Oval, LeafShape::Maple5, LeafShape::Oval, LeafShape::Maple5,
+                                        LeafShape::Oval};
   for (size_t i = 0; i < shapes.size(); ++i) {
     const Vec3 o(0.3f, 0.01f * static_cast<float>(i), 1.0f + 0.1f * static_cast<float>(i));
     t.leaves.corners.push_back(o);
@@ -141,8 +140,7 @@ TriangleMesh expected_triangles(const TreeMesh& t) {
   const std::array<Vec2, 4> uv{Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
   for (size_t i = 0; i < t.leaves.size(); ++i) {
     const Vec3* c = &t.leaves.corners[4 * i];
-    const Vec3 n =
-        glm::normalize(glm::cross(c[1] - c[0], c[2] - c[0]) + glm::cross(c[2] - c[0], c[3] - c[0]));
+    const Vec3 n = glm::normalize(glm::cross(c[1] - c[0], c[2] - c[0]) + glm::cross(c[2] - c[0], c[3] - c[0]));
     const auto base = static_cast<uint32_t>(m.positions.size());
     for (int k = 0; k < 4; ++k) {
       m.positions.push_back(c[k]);
@@ -216,9 +214,8 @@ TEST_F(MeshIo, ObjVertexNormalFaces) {
 }
 
 TEST_F(MeshIo, ObjFullFacesShareIdenticalCorners) {
-  const TriangleMesh m = read_mesh(write(
-      "a.obj",
-      std::string(kObjHeader) + "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\nf 1/1/2 3/3/1 4/4/1\n"));
+  const TriangleMesh m = read_mesh(
+      write("a.obj", std::string(kObjHeader) + "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\nf 1/1/2 3/3/1 4/4/1\n"));
   ASSERT_EQ(m.triangles.size(), 3u);
   // (1,1,1) (2,2,1) (3,3,1) (4,4,1) and (1,1,2): five distinct corners.
   EXPECT_EQ(m.positions.size(), 5u);
@@ -286,8 +283,7 @@ TEST_F(MeshIo, ObjErrorsNameFileAndLine) {
                      "vertex index 4 out of range (3 defined so far");
   expect_parse_error(write("neg_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n"), 4,
                      "vertex index -4 out of range");
-  expect_parse_error(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), 4,
-                     "vertex index 0 out of range");
+  expect_parse_error(write("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), 4, "vertex index 0 out of range");
   expect_parse_error(write("vt_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/2 2/1 3/1\n"), 5,
                      "texture coordinate index 2 out of range");
   expect_parse_error(write("vn_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n"), 4,
@@ -298,15 +294,13 @@ TEST_F(MeshIo, ObjErrorsNameFileAndLine) {
                      "expected a face corner v, v/vt, v//vn or v/vt/vn, found 'x'");
   expect_parse_error(write("word.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n"), 4,
                      "expected a vertex index in the face, found 'two'");
-  expect_parse_error(write("extra.obj", "vn 0 0 1 7\n"), 1,
-                     "unexpected '7' at the end of the 'vn'");
+  expect_parse_error(write("extra.obj", "vn 0 0 1 7\n"), 1, "unexpected '7' at the end of the 'vn'");
   expect_parse_error(write("stmt.obj", "v 0 0 0\ncurv 0 1\n"), 2, "unknown OBJ statement 'curv'");
   expect_parse_error(write("overflow.obj", "v 1e99 0 0\n"), 1, "found '1e99'");
 }
 
 TEST_F(MeshIo, UnknownFormatAndMissingFile) {
-  expect_parse_error(write("mesh.stl", "solid x\n"), 0,
-                     "unknown mesh format '.stl' (expected .obj or .ply)");
+  expect_parse_error(write("mesh.stl", "solid x\n"), 0, "unknown mesh format '.stl' (expected .obj or .ply)");
   expect_parse_error(write("noext", "v 0 0 0\n"), 0, "unknown mesh format");
   expect_parse_error(path("missing.obj"), 0, "cannot open");
 }
@@ -343,16 +337,15 @@ TEST_F(MeshIo, PlyAsciiWithNormalsUvsAndSkippedData) {
 }
 
 TEST_F(MeshIo, PlyUvNamesAndVertexIndexAlias) {
-  for (const auto& [u, v] : {std::pair{"u", "v"}, std::pair{"texture_u", "texture_v"},
-                             std::pair{"texture_s", "texture_t"}}) {
-    const std::string text =
-        std::string(
-            "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\n"
-            "property double x\r\nproperty double y\r\nproperty double z\r\n"
-            "property float ") +
-        u + "\r\nproperty float " + v +
-        "\r\nelement face 1\r\nproperty list uint8 uint32 vertex_index\r\n"
-        "end_header\r\n0 0 0 0.25 0.5\r\n1 0 0 1 0\r\n0 1 0 0 1\r\n3 2 1 0\r\n";
+  for (const auto& [u, v] :
+       {std::pair{"u", "v"}, std::pair{"texture_u", "texture_v"}, std::pair{"texture_s", "texture_t"}}) {
+    const std::string text = std::string(
+                                 "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\n"
+                                 "property double x\r\nproperty double y\r\nproperty double z\r\n"
+                                 "property float ") +
+                             u + "\r\nproperty float " + v +
+                             "\r\nelement face 1\r\nproperty list uint8 uint32 vertex_index\r\n"
+                             "end_header\r\n0 0 0 0.25 0.5\r\n1 0 0 1 0\r\n0 1 0 0 1\r\n3 2 1 0\r\n";
     const TriangleMesh m = read_mesh(write("uv.ply", text));
     ASSERT_EQ(m.uvs.size(), 3u) << u;
     EXPECT_EQ(m.uvs[0], Vec2(0.25f, 0.5f));
@@ -370,8 +363,7 @@ class Bytes {
   Bytes& put(T v) {
     std::array<char, sizeof(T)> raw;
     std::memcpy(raw.data(), &v, sizeof(T));
-    if (little_ != (std::endian::native == std::endian::little))
-      std::reverse(raw.begin(), raw.end());
+    if (little_ != (std::endian::native == std::endian::little)) std::reverse(raw.begin(), raw.end());
     s_.append(raw.data(), raw.size());
     return *this;
   }
@@ -383,14 +375,13 @@ class Bytes {
 };
 
 std::string binary_ply(bool little) {
-  std::string header =
-      std::string("ply\nformat ") + (little ? "binary_little_endian" : "binary_big_endian") +
-      " 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float "
-      "z\nproperty double nx\nproperty double ny\nproperty double nz\n"
-      "property uchar red\nproperty float u\nproperty float v\n"
-      "element face 2\nproperty list ushort short vertex_indices\nproperty int flags\n"
-      "element extra 2\nproperty list int char stuff\n"
-      "end_header\n";
+  std::string header = std::string("ply\nformat ") + (little ? "binary_little_endian" : "binary_big_endian") +
+                       " 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float "
+                       "z\nproperty double nx\nproperty double ny\nproperty double nz\n"
+                       "property uchar red\nproperty float u\nproperty float v\n"
+                       "element face 2\nproperty list ushort short vertex_indices\nproperty int flags\n"
+                       "element extra 2\nproperty list int char stuff\n"
+                       "end_header\n";
   Bytes b(little);
   const float pos[4][3] = {{0, 0, 0}, {1.5f, 0, 0}, {1.5f, 2, 0}, {0, 2, -0.125f}};
   for (int i = 0; i < 4; ++i) {
@@ -399,12 +390,7 @@ std::string binary_ply(bool little) {
     b.put(uint8_t{200});
     b.put(static_cast<float>(i) / 4.0f).put(1.0f - static_cast<float>(i) / 4.0f);
   }
-  b.put(uint16_t{4})
-      .put(int16_t{0})
-      .put(int16_t{1})
-      .put(int16_t{2})
-      .put(int16_t{3})
-      .put(int32_t{-1});
+  b.put(uint16_t{4}).put(int16_t{0}).put(int16_t{1}).put(int16_t{2}).put(int16_t{3}).put(int32_t{-1});
   b.put(uint16_t{3}).put(int16_t{3}).put(int16_t{2}).put(int16_t{1}).put(int32_t{7});
   b.put(int32_t{2}).put(int8_t{1}).put(int8_t{2});
   b.put(int32_t{0});
@@ -431,13 +417,11 @@ TEST_F(MeshIo, PlyErrors) {
   const std::string good = binary_ply(true);
   // Cut inside the second face.
   const size_t cut = good.size() - 6 - 1 - 4 - 8;
-  expect_parse_error(write("trunc.ply", good.substr(0, cut)), 0,
-                     "truncated binary PLY data at byte");
+  expect_parse_error(write("trunc.ply", good.substr(0, cut)), 0, "truncated binary PLY data at byte");
   expect_parse_error(write("trunc2.ply", good.substr(0, cut)), 0, "of face 1");
   expect_parse_error(write("nohdr.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"), 3,
                      "expected 'end_header' before the end of the file");
-  expect_parse_error(write("magic.ply", "PLY\nformat ascii 1.0\nend_header\n"), 1,
-                     "expected the PLY magic");
+  expect_parse_error(write("magic.ply", "PLY\nformat ascii 1.0\nend_header\n"), 1, "expected the PLY magic");
   expect_parse_error(write("fmt.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"), 2,
                      "expected format ascii, binary_little_endian or binary_big_endian");
   expect_parse_error(write("type.ply",
@@ -458,9 +442,8 @@ TEST_F(MeshIo, PlyErrors) {
                      "vertex index 3 in face 0 out of range (3 vertices)");
   expect_parse_error(write("cnt.ply", ascii_head + "0 0 0\n1 0 0\n0 1 0\n300 0 1 2\n"), 13,
                      "expected the list length of vertex_indices of face 0, found '300'");
-  expect_parse_error(
-      write("short.ply", ascii_head + "0 0 0\n1 0 0\n0 1 0\n3 0 1"), 13,
-      "expected a vertex index in vertex_indices of face 0, found the end of the file");
+  expect_parse_error(write("short.ply", ascii_head + "0 0 0\n1 0 0\n0 1 0\n3 0 1"), 13,
+                     "expected a vertex index in vertex_indices of face 0, found the end of the file");
   expect_parse_error(write("more.ply", ascii_head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n9\n"), 14,
                      "unexpected '9' after the last PLY element");
   expect_parse_error(write("two.ply", ascii_head + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n"), 13,
@@ -469,8 +452,7 @@ TEST_F(MeshIo, PlyErrors) {
   // First face's first index (after 4 vertices of 3·4 + 3·8 + 1 + 2·4 = 45 bytes and a ushort).
   const size_t first_index = good.find("end_header\n") + 11 + 4 * 45 + 2;
   bad_index[first_index] = 9;
-  expect_parse_error(write("bidx.ply", bad_index), 0,
-                     "vertex index 9 in face 0 out of range (4 vertices)");
+  expect_parse_error(write("bidx.ply", bad_index), 0, "vertex index 9 in face 0 out of range (4 vertices)");
 }
 
 // ------------------------------------------------------------------------------- round trips
@@ -482,13 +464,11 @@ TEST_F(MeshIo, TreeMeshObjRoundTrip) {
   EXPECT_FALSE(fs::exists(path("tree.obj.tmp")));
   const std::string text = read_all(file);
   EXPECT_NE(text.find("g stems\n"), std::string::npos);
-  EXPECT_NE(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Oval)) +
-                      "\nusemtl leaves_" + std::string(leaf_shape_name(LeafShape::Oval)) + "\n"),
+  EXPECT_NE(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Oval)) + "\nusemtl leaves_" +
+                      std::string(leaf_shape_name(LeafShape::Oval)) + "\n"),
             std::string::npos);
-  EXPECT_NE(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Maple5))),
-            std::string::npos);
-  EXPECT_EQ(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Triangle))),
-            std::string::npos);
+  EXPECT_NE(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Maple5))), std::string::npos);
+  EXPECT_EQ(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Triangle))), std::string::npos);
   // Leaves are written as quads.
   EXPECT_NE(text.find("f 9/9/9 10/10/9 11/11/9 12/12/9\n"), std::string::npos);
 
@@ -504,8 +484,7 @@ TEST_F(MeshIo, TreeMeshPlyRoundTrip) {
   EXPECT_FALSE(fs::exists(path("tree.ply.tmp")));
   const std::string bytes = read_all(file);
   EXPECT_NE(bytes.find("format binary_little_endian 1.0\n"), std::string::npos);
-  EXPECT_NE(bytes.find("property list uchar int vertex_indices\nproperty uchar leaf_shape\n"),
-            std::string::npos);
+  EXPECT_NE(bytes.find("property list uchar int vertex_indices\nproperty uchar leaf_shape\n"), std::string::npos);
   // Face records: stems (1 + 12 + 1 bytes) then leaves (1 + 16 + 1 bytes), leaf_shape last.
   const size_t leaf_faces = tree.leaves.size() * 18;
   const size_t faces_begin = bytes.size() - leaf_faces - tree.stems.triangles.size() * 14;
@@ -650,8 +629,8 @@ TEST_F(MeshIo, ObjReadThroughput) {
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(m.triangles.size(), grid.triangles.size());
   EXPECT_EQ(m.positions, grid.positions);
-  std::printf("OBJ read: %zu triangles (v/vt/vn) in %.3f s = %.1f M triangles/s\n",
-              m.triangles.size(), s, static_cast<double>(m.triangles.size()) / s * 1e-6);
+  std::printf("OBJ read: %zu triangles (v/vt/vn) in %.3f s = %.1f M triangles/s\n", m.triangles.size(), s,
+              static_cast<double>(m.triangles.size()) / s * 1e-6);
 }
 
 }  // namespace

@@ -15,7 +15,8 @@ Chi2Result chi2_environment(const Environment& env, uint64_t seed) {
   Pcg32 rng(seed);
   SampledWavelengths wl;
   return test::chi2_directions(
-      {}, [&](int) {
+      {},
+      [&](int) {
         const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), rng.uniform(), wl);
         EXPECT_NEAR(s.pdf, env.pdf(s.wi), 1e-3f * s.pdf);
         return s.pdf > 0 ? s.wi : Vec3(0.0f);
@@ -57,7 +58,8 @@ TEST(Lights, SunAndSkyMixtureChi2) {
   Pcg32 rng(13);
   SampledWavelengths wl;
   const auto r = test::chi2_directions(
-      {}, [&](int) {
+      {},
+      [&](int) {
         const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), rng.uniform(), wl);
         EXPECT_NEAR(s.pdf, env.pdf(s.wi), 1e-3f * s.pdf);
         return env.in_sun(s.wi) ? Vec3(0.0f) : s.wi;

@@ -22,7 +22,8 @@ Chi2Result chi2_bsdf(const Material& m, const Vec3& wo, bool front, uint64_t see
   const Bsdf bsdf(m, wl550(), front);
   Pcg32 rng(seed);
   return test::chi2_directions(
-      {}, [&](int) {
+      {},
+      [&](int) {
         BsdfSample s;
         if (!bsdf.sample(wo, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s)) return Vec3(0.0f);
         EXPECT_NEAR(s.pdf, bsdf.pdf(wo, s.wi), 1e-4f * s.pdf);

@@ -68,7 +68,8 @@ void expect_channels(const Image& img, const std::function<double(const DenseSpe
     for (size_t c = 0; c < b.channels.size(); ++c) {
       const ChannelStats s = pixel_mean(img, b.channels[c]);
       const double e = expected(b.weights[c]);
-      EXPECT_LT(std::abs(s.mean - e), 4.5 * s.standard_error + 1e-7) << what << " " << b.channels[c] << ": " << s.mean << " vs " << e << " ± " << s.standard_error;
+      EXPECT_LT(std::abs(s.mean - e), 4.5 * s.standard_error + 1e-7)
+          << what << " " << b.channels[c] << ": " << s.mean << " vs " << e << " ± " << s.standard_error;
       EXPECT_LT(std::abs(s.mean - e), 0.01 * std::abs(e)) << what << " " << b.channels[c];
     }
 }
@@ -78,7 +79,8 @@ double band_value_of_constant(const DenseSpectrum& w) { return w.integral(); }
 TEST(Transport, WhiteFurnaceLeafCloud) {
   // Leaves with ρ + τ = 1 (alpha-cut ovals, many bounces) under a uniform unit sky: radiance 1.
   Scene s = furnace_scene();
-  const uint32_t m = s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.4f), DenseSpectrum::constant(0.6f)));
+  const uint32_t m =
+      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.4f), DenseSpectrum::constant(0.6f)));
   Prototype p;
   LeafCloudParams lc;
   lc.radii = Vec3(1.0f);
@@ -99,7 +101,8 @@ TEST(Transport, WhiteFurnaceClosedLambertianObjects) {
   Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0};
   Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0};
   s.instances.push_back({s.add_prototype(box), glm::translate(Mat4(1.0f), Vec3(-0.6f, 0, 0)), 0});
-  s.instances.push_back({s.add_prototype(sphere), glm::scale(glm::translate(Mat4(1.0f), Vec3(0.7f, 0, 0.5f)), Vec3(1.3f)), 0});
+  s.instances.push_back(
+      {s.add_prototype(sphere), glm::scale(glm::translate(Mat4(1.0f), Vec3(0.7f, 0, 0.5f)), Vec3(1.3f)), 0});
   const Image img = render_image(s, 24, 24, 64);
   expect_channels(img, band_value_of_constant, "closed furnace");
 }
@@ -134,7 +137,8 @@ Scene small_forest_scene() {
   s.sun.elevation_deg = 35;
   s.sun.azimuth_deg = 160;
   const uint32_t soil = s.add_material("soil", make_diffuse("soil", DenseSpectrum::constant(0.2f)));
-  const uint32_t leaf = s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
+  const uint32_t leaf =
+      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
   s.instances.push_back({s.add_prototype(Prototype{"ground", make_plane(100, 100), soil, {}, 0}), Mat4(1.0f), 0});
   Prototype crown;
   crown.leaves = make_leaf_cloud(LeafCloudParams{}, 5);

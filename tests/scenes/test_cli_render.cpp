@@ -77,7 +77,8 @@ TEST(CliRender, BadSceneFailsWithFileLineAndNoOutput) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("bad.toml:5: 'elevation' must be a number"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out.exr"));
-  const auto missing = run_sylva("render '" + (dir / "nope.toml").string() + "' -o '" + (dir / "o.exr").string() + "'", dir);
+  const auto missing =
+      run_sylva("render '" + (dir / "nope.toml").string() + "' -o '" + (dir / "o.exr").string() + "'", dir);
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("nope.toml:0: cannot open scene file"), std::string::npos) << missing.err;
   const auto bad_res = run_sylva("render -o '" + (dir / "o.exr").string() + "' --res 12by4", dir);
@@ -110,7 +111,8 @@ TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
-    const std::string cmd = std::string(SYLVA_BINARY) + " render -o '" + out.string() + "' --res 160x90 --spp 160 --threads 2";
+    const std::string cmd =
+        std::string(SYLVA_BINARY) + " render -o '" + out.string() + "' --res 160x90 --spp 160 --threads 2";
     ::execl("/bin/sh", "sh", "-c", ("exec " + cmd + " 2>'" + log.string() + "'").c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }

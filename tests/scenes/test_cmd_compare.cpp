@@ -26,7 +26,8 @@ using test::read_text;
 class CompareCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = test::fresh_dir(std::string("cmd_compare_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ =
+        test::fresh_dir(std::string("cmd_compare_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
   }
   void TearDown() override { fs::remove_all(dir_); }
 

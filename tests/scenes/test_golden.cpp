@@ -3,8 +3,8 @@
 
 #include "scenes/golden.h"
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <fmt/core.h>
 
@@ -23,7 +23,8 @@ std::string describe(const CompareResult& r) {
   std::string s = fmt::format("reject {:.3f}%", 100.0 * r.reject_fraction);
   for (const ChannelReport& c : r.channels)
     if (c.test == ChannelTest::ZTest)
-      s += fmt::format(", {} bias z {:+.1f} tile z {:+.1f} rel {:+.2f}%", c.name, c.bias_z, c.tile_z, 100.0 * c.mean_rel_diff);
+      s += fmt::format(", {} bias z {:+.1f} tile z {:+.1f} rel {:+.2f}%", c.name, c.bias_z, c.tile_z,
+                       100.0 * c.mean_rel_diff);
   return s;
 }
 
@@ -50,8 +51,8 @@ TEST(GoldenSuite, EveryCaseIsListed) {
 
 void expect_rejected(const std::string& name, const std::string& fault, const GoldenCheck& r) {
   EXPECT_FALSE(r.compare.passed) << fault << " on " << name << " was not caught: " << format_compare_summary(r.compare);
-  std::printf("[power] %-26s on %-13s -> %s: %s\n", fault.c_str(), name.c_str(), r.compare.passed ? "PASSED (bad)" : "rejected",
-              describe(r.compare).c_str());
+  std::printf("[power] %-26s on %-13s -> %s: %s\n", fault.c_str(), name.c_str(),
+              r.compare.passed ? "PASSED (bad)" : "rejected", describe(r.compare).c_str());
 }
 
 TEST(GoldenPower, LeafReflectancePlus3PercentFails) {
@@ -73,8 +74,9 @@ TEST(GoldenPower, SkyRadianceTimes1_02Fails) {
 
 TEST(GoldenPower, BrokenMisWeightFails) {
   for (const char* name : {"ground_sky", "instancing"})
-    expect_rejected(name, "broken MIS weight",
-                    check_golden_case(find_case(name), [](RenderSettings& s) { s.integrator.fault_mis_weight_one = true; }));
+    expect_rejected(name, "broken MIS weight", check_golden_case(find_case(name), [](RenderSettings& s) {
+                      s.integrator.fault_mis_weight_one = true;
+                    }));
 }
 
 TEST(GoldenPower, OnePixelCameraShiftFails) {
@@ -91,8 +93,9 @@ TEST(GoldenPower, OnePixelCameraShiftFails) {
 }
 
 TEST(GoldenPower, MissingAlphaInShadowRaysFails) {
-  expect_rejected("alpha_shadows", "no alpha in shadow rays",
-                  check_golden_case(find_case("alpha_shadows"), [](RenderSettings& s) { s.fault_no_shadow_alpha = true; }));
+  expect_rejected(
+      "alpha_shadows", "no alpha in shadow rays",
+      check_golden_case(find_case("alpha_shadows"), [](RenderSettings& s) { s.fault_no_shadow_alpha = true; }));
 }
 
 TEST(GoldenPower, ADifferentSeedAlonePasses) {
@@ -100,8 +103,8 @@ TEST(GoldenPower, ADifferentSeedAlonePasses) {
     const GoldenCheck r = check_golden_case(c, [](RenderSettings& s) { s.seed += 1000; });
     EXPECT_TRUE(r.compare.passed) << c.name << ": " << format_compare_summary(r.compare);
     EXPECT_FALSE(r.determinism_matches) << "the determinism render must depend on the seed";
-    std::printf("[power] %-26s on %-13s -> %s: %s\n", "seed only", c.name.c_str(), r.compare.passed ? "passed" : "REJECTED (bad)",
-                describe(r.compare).c_str());
+    std::printf("[power] %-26s on %-13s -> %s: %s\n", "seed only", c.name.c_str(),
+                r.compare.passed ? "passed" : "REJECTED (bad)", describe(r.compare).c_str());
   }
 }
 

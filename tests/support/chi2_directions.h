@@ -12,7 +12,7 @@
 namespace sylva::test {
 
 struct DirectionChi2 {
-  int theta_bins = 40;   // in cos θ ∈ [-1, 1]
+  int theta_bins = 40;  // in cos θ ∈ [-1, 1]
   int phi_bins = 80;
   int samples = 1'000'000;
   int integration_res = 6;  // sub-cells per bin side for integrating the pdf
@@ -36,8 +36,10 @@ inline Chi2Result chi2_directions(const DirectionChi2& cfg, const std::function<
   const size_t lost = observed.size() - 1;
   for (int i = 0; i < cfg.samples; ++i) {
     const Vec3 d = sample(i);
-    if (d == Vec3(0.0f)) observed[lost] += 1;
-    else observed[cell(d)] += 1;
+    if (d == Vec3(0.0f))
+      observed[lost] += 1;
+    else
+      observed[cell(d)] += 1;
   }
   // Each cell has area (2/nt)(2π/np) in (cos θ, φ) = solid angle; integrate pdf by midpoint rule.
   const int k = cfg.integration_res;
@@ -50,7 +52,8 @@ inline Chi2Result chi2_directions(const DirectionChi2& cfg, const std::function<
           const double z = -1.0 + 2.0 * (t + (a + 0.5) / k) / nt;
           const double ph = 2.0 * M_PI * (p + (b + 0.5) / k) / np;
           const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-          sum += pdf(Vec3(static_cast<float>(s * std::cos(ph)), static_cast<float>(s * std::sin(ph)), static_cast<float>(z)));
+          sum += pdf(
+              Vec3(static_cast<float>(s * std::cos(ph)), static_cast<float>(s * std::sin(ph)), static_cast<float>(z)));
         }
       const double area = (2.0 / nt) * (2.0 * M_PI / np);
       const double e = sum / (k * k) * area * cfg.samples;

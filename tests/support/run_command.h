@@ -26,7 +26,8 @@ inline std::string read_text(const std::filesystem::path& p) {
 // Runs `SYLVA_BINARY args` through the shell, stdout and stderr captured to files in `dir`.
 inline CommandResult run_sylva(const std::string& args, const std::filesystem::path& dir) {
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string("'") + SYLVA_BINARY + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
+  const std::string cmd =
+      std::string("'") + SYLVA_BINARY + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   CommandResult r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
