@@ -45,6 +45,18 @@ Frame rotate_about_vertical(const Frame& f, float a) {
   auto r = [&](const Vec3& v) { return Vec3(c * v.x - s * v.y, s * v.x + c * v.y, v.z); };
   return Frame{r(f.x), r(f.y), r(f.z)};
 }
+
+// §4.3 orientation of a child stem or leaf: turn about the parent's axis by nRotate (alternating
+// when negative; `rotate_deg` and `alternate` carry the running state along the parent) or, for a
+// fan, by `fan_deg` about the parent's y axis; then tilt down by nDownAngle at `ratio` along it.
+Frame orient_child(const Frame& parent_frame, const WeberPennLevel& lp, float ratio, float u_down, float u_rot,
+                   bool fan, float fan_deg, float& rotate_deg, int& alternate) {
+  const float down = wp::down_angle_deg(lp.down_angle, lp.down_angle_v, ratio, u_down);
+  if (fan) return rotate_x(rotate_y(parent_frame, radians(fan_deg)), radians(down));
+  rotate_deg = wp::rotate_angle_deg(lp.rotate, lp.rotate_v, rotate_deg, alternate, u_rot);
+  if (lp.rotate < 0.0f) alternate = -alternate;
+  return rotate_x(rotate_z(parent_frame, radians(rotate_deg)), radians(down));
+}
 Frame orthonormalized(const Frame& f) {
   const Vec3 z = glm::normalize(f.z);
   Vec3 x = f.x - z * glm::dot(f.x, z);
@@ -433,16 +445,9 @@ class Builder {
     const float parent_base = s.level == 0 ? length_base_ : 0.0f;
     const float span = s.length - parent_base;
     const float ratio = span > 0.0f ? (s.length - offset) / span : 0.0f;
-    const float down = wp::down_angle_deg(lp.down_angle, lp.down_angle_v, ratio, c.rng.symmetric());
+    const float u_down = c.rng.symmetric();
     const float u_rot = c.rng.symmetric();
-    Frame f;
-    if (fan) {
-      f = rotate_x(rotate_y(parent_frame, radians(fan_deg)), radians(down));
-    } else {
-      s.rotate_deg = wp::rotate_angle_deg(lp.rotate, lp.rotate_v, s.rotate_deg, s.alternate, u_rot);
-      if (lp.rotate < 0.0f) s.alternate = -s.alternate;
-      f = rotate_x(rotate_z(parent_frame, radians(s.rotate_deg)), radians(down));
-    }
+    const Frame f = orient_child(parent_frame, lp, ratio, u_down, u_rot, fan, fan_deg, s.rotate_deg, s.alternate);
     c.pos = pos;
     c.section_frame = c.frame = orthonormalized(f);
     c.offset = offset;
@@ -502,16 +507,9 @@ class Builder {
     const WeberPennLevel& lp = p_.at(p_.levels);
     Pcg32 rng(hash_ids(s.seed, 0x1EAFull, static_cast<uint64_t>(m_.leaves.size())));
     const float ratio = s.length > 0.0f ? (s.length - offset) / s.length : 0.0f;
-    const float down = wp::down_angle_deg(lp.down_angle, lp.down_angle_v, ratio, rng.symmetric());
+    const float u_down = rng.symmetric();
     const float u_rot = rng.symmetric();
-    Frame f;
-    if (fan) {
-      f = rotate_x(rotate_y(parent_frame, radians(fan_deg)), radians(down));
-    } else {
-      s.leaf_rotate_deg = wp::rotate_angle_deg(lp.rotate, lp.rotate_v, s.leaf_rotate_deg, s.leaf_alternate, u_rot);
-      if (lp.rotate < 0.0f) s.leaf_alternate = -s.leaf_alternate;
-      f = rotate_x(rotate_z(parent_frame, radians(s.leaf_rotate_deg)), radians(down));
-    }
+    Frame f = orient_child(parent_frame, lp, ratio, u_down, u_rot, fan, fan_deg, s.leaf_rotate_deg, s.leaf_alternate);
     // §4.5 leaf size: LeafScale/√quality by LeafScale·LeafScaleX/√quality.
     const float q = std::sqrt(std::max(1e-6f, p_.quality * p_.leaf_quality));
     const float length = p_.leaf_scale / q;
