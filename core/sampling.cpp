@@ -31,13 +31,21 @@ Distribution1D::Distribution1D(std::vector<float> weights) : weights_(std::move(
   for (int i = 0; i <= n; ++i)
     cdf_[i] = acc > 0 ? static_cast<float>(cdf[i] / acc) : static_cast<float>(i) / std::max(1, n);
   if (n > 0) cdf_[n] = 1.0f;
+  guide_.resize(n);
+  for (int k = 0, i = 0; k < n; ++k) {
+    const float x = static_cast<float>(k) / static_cast<float>(n);
+    while (i + 1 < n && cdf_[i + 1] <= x) ++i;
+    guide_[k] = i;
+  }
 }
 
 float Distribution1D::sample(float u, float* pdf, int* bin) const {
   const int n = size();
-  // Last bin whose cdf start is <= u, among bins with non-zero mass.
-  int i = static_cast<int>(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()) - 1;
-  i = std::clamp(i, 0, n - 1);
+  // Last bin whose cdf start is <= u (found from the guide table: O(1) on average), then back over
+  // bins with no mass.
+  int i = guide_[std::clamp(static_cast<int>(u * static_cast<float>(n)), 0, n - 1)];
+  while (i > 0 && cdf_[i] > u) --i;
+  while (i + 1 < n && cdf_[i + 1] <= u) ++i;
   while (i > 0 && cdf_[i + 1] == cdf_[i]) --i;
   const float width = cdf_[i + 1] - cdf_[i];
   const float du = width > 0 ? (u - cdf_[i]) / width : 0.5f;

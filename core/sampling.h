@@ -49,7 +49,8 @@ class Distribution1D {
 
  private:
   std::vector<float> weights_;
-  std::vector<float> cdf_;  // size n+1
+  std::vector<float> cdf_;    // size n+1
+  std::vector<int> guide_;    // guide_[k]: last bin whose cdf start ≤ k/n (cut-point search)
   float integral_ = 0;
 };
 
