@@ -71,6 +71,8 @@ void expect_channels(const Image& img, const std::function<double(const DenseSpe
       EXPECT_LT(std::abs(s.mean - e), 4.5 * s.standard_error + 1e-7)
           << what << " " << b.channels[c] << ": " << s.mean << " vs " << e << " ± " << s.standard_error;
       EXPECT_LT(std::abs(s.mean - e), 0.01 * std::abs(e)) << what << " " << b.channels[c];
+      std::printf("[transport] %-16s %-6s mean %.6g expected %.6g rel.err %+.3f%% (%.1f s.e.)\n", what,
+                  b.channels[c].c_str(), s.mean, e, 100.0 * (s.mean - e) / e, (s.mean - e) / s.standard_error);
     }
 }
 
