@@ -47,15 +47,20 @@ ChannelStats pixel_mean(const Image& img, const std::string& channel) {
   return {sum / n, std::sqrt(var) / n};
 }
 
-Image render_image(const Scene& scene, int w, int h, int spp, int threads = 0, int max_depth = 64) {
+RenderSettings test_settings(int w, int h, int spp, int max_depth = 64) {
   RenderSettings settings;
   settings.width = w;
   settings.height = h;
   settings.spp = spp;
-  settings.threads = threads;
   settings.bands = test_bands();
   settings.progress = false;
   settings.integrator.max_depth = max_depth;
+  return settings;
+}
+
+Image render_image(const Scene& scene, int w, int h, int spp, int threads = 0, int max_depth = 64) {
+  RenderSettings settings = test_settings(w, h, spp, max_depth);
+  settings.threads = threads;
   Renderer r(scene, settings);
   Film film = r.make_film();
   r.render(film);
@@ -170,13 +175,7 @@ TEST(Transport, BitIdenticalAtAnyThreadCount) {
 
 TEST(Transport, InterruptedAndResumedEqualsUninterrupted) {
   const Scene s = small_forest_scene();
-  RenderSettings settings;
-  settings.width = 48;
-  settings.height = 32;
-  settings.spp = 16;
-  settings.bands = test_bands();
-  settings.progress = false;
-  settings.integrator.max_depth = 8;
+  const RenderSettings settings = test_settings(48, 32, 16, 8);
   Renderer full(s, settings);
   Film reference = full.make_film();
   full.render(reference);
@@ -210,12 +209,7 @@ TEST(Transport, InterruptedAndResumedEqualsUninterrupted) {
 TEST(Transport, MoreSamplesLaterContinueTheSameSequence) {
   // 8 spp then topped up to 16 equals 16 at once (progressive refinement of a finished render).
   const Scene s = small_forest_scene();
-  RenderSettings settings;
-  settings.width = 20;
-  settings.height = 12;
-  settings.spp = 8;
-  settings.bands = test_bands();
-  settings.progress = false;
+  RenderSettings settings = test_settings(20, 12, 8);
   Renderer r8(s, settings);
   Film film = r8.make_film();
   r8.render(film);
