@@ -1,5 +1,6 @@
 #include "geometry/weber_penn.h"
 
+#include "core/error.h"
 #include "core/rng.h"
 
 #include <algorithm>
@@ -9,6 +10,12 @@
 namespace sylva {
 
 namespace {
+
+// Budgets that turn a runaway parameter set (e.g. nBranches in the hundreds of thousands on two
+// levels) into a clear error instead of exhausting memory: far above any real tree (the Weeping
+// Willow has 15k stems and 170k leaves).
+constexpr size_t kMaxStems = 1'000'000;
+constexpr size_t kMaxLeaves = 10'000'000;
 
 // Stems shorter or thinner than this are not formed (as in Arbaro).
 constexpr float kMinStemLength = 0.0005f;
@@ -226,6 +233,9 @@ class Builder {
     if (!probe) {
       segs.clear();
       stem_index = static_cast<int>(m_.stems.size());
+      if (m_.stems.size() >= kMaxStems)
+        throw Error("tree too large: more than " + std::to_string(kMaxStems) +
+                    " stems (lower nBranches, Levels or the quality factor)");
       TreeStems& st = m_.stems;
       st.level.push_back(static_cast<uint8_t>(s.level));
       st.parent.push_back(s.parent);
@@ -505,6 +515,9 @@ class Builder {
   void add_leaf(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& axis_pos, float offset, bool fan,
                 float fan_deg) {
     const WeberPennLevel& lp = p_.at(p_.levels);
+    if (m_.leaves.size() >= kMaxLeaves)
+      throw Error("tree too large: more than " + std::to_string(kMaxLeaves) +
+                  " leaves (lower Leaves, nBranches or the quality factor)");
     Pcg32 rng(hash_ids(s.seed, 0x1EAFull, static_cast<uint64_t>(m_.leaves.size())));
     const float ratio = s.length > 0.0f ? (s.length - offset) / s.length : 0.0f;
     const float u_down = rng.symmetric();

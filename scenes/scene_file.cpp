@@ -395,7 +395,12 @@ class SceneParser {
           sp = species_.emplace(file.string(), parse_species(text.str(), file)).first;
           out_.warnings.insert(out_.warnings.end(), sp->second.warnings.begin(), sp->second.warnings.end());
         }
-        TreeMesh mesh = make_species_mesh(sp->second, seed, options);
+        TreeMesh mesh;
+        try {
+          mesh = make_species_mesh(sp->second, seed, options);
+        } catch (const Error& e) {
+          r_.fail(*t, file.string() + ": " + e.what());
+        }
         Prototype p;
         p.name = r_.string(*t, "name", sp->second.name);
         p.triangles = std::move(mesh.stems);
