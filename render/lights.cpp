@@ -65,6 +65,9 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
   sky_.sun_direction = sun_dir;
   if (sky.model == SkyModel::CieStandard && (sky.cie_type < 1 || sky.cie_type > 15))
     throw Error("sky: CIE standard sky type must be 1..15");
+  if (!(sky.ground_albedo >= 0.0f && sky.ground_albedo <= 1.0f)) throw Error("sky: ground albedo must lie in [0, 1]");
+  has_ground_ = sky.enabled && sky.model == SkyModel::CieStandard && sky.ground_albedo > 0.0f;
+  if (sky.ground_albedo > 0.0f && !has_ground_) throw Error("sky: a ground albedo needs the CIE sky");
 
   // Sun: a uniform disc whose radiance gives the irradiance at normal incidence, E = π L sin²α.
   float sun_power = 0;
@@ -81,7 +84,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
   // Sky: tabulate the directional shape g(ω) over (φ, θ) with the sin θ Jacobian.
   float sky_power = 0;
   if (sky.enabled) {
-    sky_theta_max_ = sky.model == SkyModel::Uniform ? kPi : 0.5f * kPi;
+    sky_theta_max_ = sky.model == SkyModel::Uniform || has_ground_ ? kPi : 0.5f * kPi;
     std::vector<float> w(kSkyPhiBins * kSkyThetaBins);
     double horizontal = 0;  // ∫ g cos θ dω over the upper hemisphere
     const float dphi = kTwoPi / kSkyPhiBins, dtheta = sky_theta_max_ / kSkyThetaBins;
@@ -94,7 +97,6 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
         if (d.z > 0) horizontal += g * d.z * std::sin(theta) * dphi * dtheta;
       }
     }
-    sky_distribution_ = Distribution2D(w, kSkyPhiBins, kSkyThetaBins);
     if (sky.model == SkyModel::Uniform) {
       sky_radiance_ = sky.spectrum;
       sky_power = static_cast<float>(sky.spectrum.integral() * kPi);
@@ -103,6 +105,20 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
       sky_radiance_ *= static_cast<float>(1.0 / horizontal);
       sky_power = static_cast<float>(sky.spectrum.integral());
     }
+    if (has_ground_) {
+      // L_ground = a/π · (E_sun sin(elevation) + E_sky,horizontal), uniform over the lower hemisphere;
+      // its table cells are weighted by its power relative to the sky's shape units.
+      ground_radiance_ = sky.spectrum;
+      if (sun.enabled)
+        for (int i = 0; i < kLambdaSamples; ++i) ground_radiance_[i] += sun.irradiance[i] * std::max(0.0f, sun_dir.z);
+      ground_radiance_ *= sky.ground_albedo * kInvPi;
+      const double sky_scale = sky_radiance_.integral();
+      const float ratio = sky_scale > 0 ? static_cast<float>(ground_radiance_.integral() / sky_scale) : 1.0f;
+      for (int j = kSkyThetaBins / 2; j < kSkyThetaBins; ++j)
+        for (int i = 0; i < kSkyPhiBins; ++i) w[j * kSkyPhiBins + i] = ratio * std::sin((j + 0.5f) * dtheta);
+      sky_power += static_cast<float>(ground_radiance_.integral() * kPi);
+    }
+    sky_distribution_ = Distribution2D(w, kSkyPhiBins, kSkyThetaBins);
   }
   const float total = sun_power * std::max(0.0f, sun_dir.z) + sky_power;
   if (sun_power > 0 && sky_power > 0 && total > 0) {
@@ -121,6 +137,7 @@ float Environment::sky_shape(const Vec3& dir) const {
 
 SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths& wl) const {
   if (!sky_.enabled) return SampledSpectrum(0.0f);
+  if (has_ground_ && dir.z < 0) return ground_radiance_.eval(wl);
   const float g = sky_shape(dir);
   return g > 0 ? g * sky_radiance_.eval(wl) : SampledSpectrum(0.0f);
 }

@@ -36,6 +36,9 @@ struct SkyDesc {
   // is this spectrum times the CIE relative luminance distribution, normalised to match it.
   // Uniform: the radiance itself (W·m⁻²·sr⁻¹·nm⁻¹) in every direction of the sphere.
   DenseSpectrum spectrum = astm_g173_diffuse();
+  // CieStandard only: below the horizon, a Lambertian ground of this albedo lit by the sun and
+  // this sky (a stand-in for terrain beyond the scene's geometry). 0: black below the horizon.
+  float ground_albedo = 0.0f;
   Vec3 sun_direction{0, 0, 1};  // for the CIE indicatrix
 };
 
@@ -88,6 +91,8 @@ class Environment {
   float sun_one_minus_cos_ = 0.0f;
   DenseSpectrum sun_radiance_;
   DenseSpectrum sky_radiance_;
+  bool has_ground_ = false;
+  DenseSpectrum ground_radiance_;    // uniform radiance below the horizon when has_ground_
   Distribution2D sky_distribution_;  // u = φ/2π, v = θ/θ_max
   float sky_theta_max_ = kPi;
   float p_sun_ = 0, p_sky_ = 0;

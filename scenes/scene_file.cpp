@@ -173,7 +173,7 @@ class SceneParser {
   void parse_sky(const toml::table& root) {
     const toml::table* t = r_.table(root, "sky");
     if (!t) return;
-    r_.check_keys(*t, {"model", "type", "spectrum", "scale"}, "[sky]");
+    r_.check_keys(*t, {"model", "type", "spectrum", "scale", "ground_albedo"}, "[sky]");
     SkyDesc& s = out_.scene.sky;
     const std::string model = r_.string(*t, "model", "cie");
     if (model == "cie") {
@@ -189,6 +189,9 @@ class SceneParser {
     }
     if (const toml::node* n = t->get("spectrum")) s.spectrum = spectrum(*n, Extrapolate::Zero);
     s.spectrum *= static_cast<float>(r_.number_in(*t, "scale", 1.0, 0.0, 1e6));
+    s.ground_albedo = r_.number_in(*t, "ground_albedo", 0.0, 0.0, 1.0);
+    if (s.ground_albedo > 0 && !(s.enabled && s.model == SkyModel::CieStandard))
+      r_.fail(*t->get("ground_albedo"), "ground_albedo needs model = \"cie\"");
   }
 
   void parse_materials(const toml::table& root) {

@@ -1,5 +1,6 @@
 // Sun and sky: χ² of the mixture sampler against its pdf, normalisation, CIE luminance.
 
+#include "core/error.h"
 #include "core/rng.h"
 #include "render/lights.h"
 #include "tests/support/chi2_directions.h"
@@ -9,7 +10,7 @@
 namespace sylva {
 namespace {
 
-const double kAlpha = sidak_alpha(0.01, 4);  // four χ² tests in this file
+const double kAlpha = sidak_alpha(0.01, 5);  // five χ² tests in this file
 
 Chi2Result chi2_environment(const Environment& env, uint64_t seed) {
   Pcg32 rng(seed);
@@ -42,6 +43,30 @@ TEST(Lights, UniformSkyChi2) {
   sky.spectrum = DenseSpectrum::constant(1.0f);
   const auto r = chi2_environment(Environment(sun, sky), 12);
   EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+}
+
+TEST(Lights, CieSkyWithGroundChi2AndRadiance) {
+  SunDesc sun;
+  sun.elevation_deg = 40;
+  SkyDesc sky;
+  sky.ground_albedo = 0.3f;
+  // χ² over the whole sphere with the sun off (the ground is lit by it all the same).
+  SunDesc no_sun = sun;
+  no_sun.enabled = false;
+  const auto r = chi2_environment(Environment(no_sun, sky), 17);
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+  // Below the horizon: L = a/π (E_sun sin(elevation) + E_sky).
+  const Environment env(sun, sky);
+  SampledWavelengths wl;
+  wl.lambda_nm = SampledSpectrum(600.0f);
+  const float expected =
+      0.3f / kPi * (sun.irradiance.eval(600.0f) * std::sin(radians(40.0f)) + sky.spectrum.eval(600.0f));
+  EXPECT_NEAR(env.eval(glm::normalize(Vec3(0.3f, 0.2f, -0.5f)), wl).x, expected, 1e-5f * expected);
+  // A ground needs the CIE sky.
+  SkyDesc uniform;
+  uniform.model = SkyModel::Uniform;
+  uniform.ground_albedo = 0.2f;
+  EXPECT_THROW(Environment(sun, uniform), Error);
 }
 
 TEST(Lights, SunAndSkyMixtureChi2) {

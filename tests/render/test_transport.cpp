@@ -137,6 +137,27 @@ TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {
   }
 }
 
+TEST(Transport, GroundBelowTheHorizonLightsAPlaneFromBelow) {
+  // The underside of a large plane sees only the lower hemisphere: L = ρ L_ground per band, with
+  // L_ground = a/π (E_sun sin(elevation) + E_sky).
+  Scene s;
+  s.sun.elevation_deg = 50;
+  s.sky.ground_albedo = 0.25f;
+  s.camera.position = {0, 0, 0};
+  s.camera.target = {0, 0, 1};
+  s.camera.up = {0, 1, 0};
+  s.camera.vfov_deg = 40;
+  const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(0.8f)));
+  const Mat4 flip = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, 2)), kPi, Vec3(1, 0, 0));
+  s.instances.push_back({s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0}), flip, 0});
+  const Image img = render_image(s, 16, 16, 256, 0, 4);
+  DenseSpectrum ground = s.sky.spectrum;
+  for (int i = 0; i < kLambdaSamples; ++i) ground[i] += s.sun.irradiance[i] * std::sin(radians(50.0f));
+  ground *= 0.25f * kInvPi;
+  expect_channels(
+      img, [&](const DenseSpectrum& w) { return 0.8 * (ground * w).integral(); }, "ground-lit");
+}
+
 Scene small_forest_scene() {
   Scene s;
   s.camera.position = {0, -5, 1.5f};

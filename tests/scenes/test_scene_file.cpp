@@ -121,6 +121,8 @@ TEST(SceneFile, EveryMistakeNamesFileAndLine) {
       {"[render]\nspp = 0\n", "scene.toml:2: 'spp' must lie in"},
       {"[render]\nwidth = \"wide\"\n", "scene.toml:2: 'width' must be an integer"},
       {"[sky]\nmodel = \"perez\"\n", "scene.toml:2: sky model must be"},
+      {"[sky]\nmodel = \"uniform\"\nground_albedo = 0.2\n", "scene.toml:3: ground_albedo needs model = \"cie\""},
+      {"[sky]\nground_albedo = 1.5\n", "scene.toml:2: 'ground_albedo' must lie in [0, 1]"},
       {"[sun]\nirradiance = \"moonlight\"\n", "scene.toml:2: unknown spectrum 'moonlight'"},
       {"[materials.a]\ntype = \"metal\"\n", "scene.toml:1: material type must be"},
       {"[materials.a]\ntype = \"diffuse\"\nreflectance = { file = \"nope.csv\", column = \"x\" }\n",
