@@ -1,6 +1,7 @@
 // The golden tier: every case in golden/ passes its statistical comparison and reproduces its
 // determinism hash; and the suite's power: deliberate regressions fail, a new seed passes.
 
+#include "core/compare_report.h"
 #include "scenes/golden.h"
 
 #include <gtest/gtest.h>
@@ -33,7 +34,13 @@ class Golden : public ::testing::TestWithParam<std::string> {};
 TEST_P(Golden, MatchesReferenceAndDeterminismHash) {
   const GoldenCase c = find_case(GetParam());
   const GoldenCheck r = check_golden_case(c);
-  EXPECT_TRUE(r.compare.passed) << format_compare_summary(r.compare);
+  if (!r.compare.passed) {
+    // As DESIGN §8 asks: test, reference, error and p-value EXRs, previews and an HTML report.
+    const auto dir = std::filesystem::temp_directory_path() / "sylva-golden-report" / c.name;
+    write_compare_report(dir, r.test, read_exr(c.reference), r.compare);
+    ADD_FAILURE() << "golden " << c.name << " regressed; report: " << (dir / "index.html").string() << "\n"
+                  << format_compare_summary(r.compare);
+  }
   EXPECT_TRUE(r.determinism_matches) << "the low-spp render of " << c.name << " changed bits (hash "
                                      << r.determinism_hash << "): if the change is intended, explain it and run "
                                      << "`sylva golden update --only " << c.name << "` (golden/README.md)";
