@@ -105,14 +105,14 @@ TEST(CliRender, BitIdenticalFilesAtAnyThreadCount) {
 
 TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
   const fs::path dir = fresh_dir("cli_resume");
-  const std::string common = " --res 160x90 --spp 160 --quiet --threads 2";
+  const std::string common = " --res 160x90 --spp 320 --quiet --threads 2";
   const fs::path out = dir / "int.exr", log = dir / "child.txt";
   // Start a render and interrupt it with SIGINT once it reports that rendering is under way.
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
     const std::string cmd =
-        std::string(SYLVA_BINARY) + " render -o '" + out.string() + "' --res 160x90 --spp 160 --threads 2";
+        std::string(SYLVA_BINARY) + " render -o '" + out.string() + "' --res 160x90 --spp 320 --threads 2";
     ::execl("/bin/sh", "sh", "-c", ("exec " + cmd + " 2>'" + log.string() + "'").c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
