@@ -211,24 +211,14 @@ Vec3 leaf_normal(const LeafQuads& leaves, size_t i) {
 
 constexpr std::array<Vec2, 4> kLeafUvs{Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
 
-void put_vec(AtomicWriter& w, std::string_view tag, const Vec3& v) {
+// One OBJ statement: `tag x y [z]`, for Vec2 and Vec3.
+template <int N>
+void put_vec(AtomicWriter& w, std::string_view tag, const glm::vec<N, float>& v) {
   w.put(tag);
-  w.put(' ');
-  w.put(v.x);
-  w.put(' ');
-  w.put(v.y);
-  w.put(' ');
-  w.put(v.z);
-  w.put('\n');
-  w.maybe_flush();
-}
-
-void put_vec(AtomicWriter& w, std::string_view tag, const Vec2& v) {
-  w.put(tag);
-  w.put(' ');
-  w.put(v.x);
-  w.put(' ');
-  w.put(v.y);
+  for (int i = 0; i < N; ++i) {
+    w.put(' ');
+    w.put(v[i]);
+  }
   w.put('\n');
   w.maybe_flush();
 }
