@@ -1,7 +1,7 @@
 // Weber–Penn generation + meshing, single-threaded (issue 3 targets: Quaking Aspen ≤ 60 ms,
 // Weeping Willow ≤ 300 ms; Arbaro needs ~590 ms and ~2,580 ms).
 
-#include "geometry/tree_mesher.h"
+#include "geometry/trees/tree_mesher.h"
 #include "scenes/species.h"
 
 #include <benchmark/benchmark.h>
@@ -12,7 +12,7 @@ namespace {
 
 // The species files next to this source (CMake passes sources by absolute path).
 const std::filesystem::path kSpeciesDir =
-    std::filesystem::path(__FILE__).parent_path().parent_path() / "scenes" / "species";
+    std::filesystem::path(__FILE__).parent_path().parent_path() / "data" / "species";
 
 void bench_species(benchmark::State& state, const char* file) {
   const sylva::Species species = sylva::load_species(kSpeciesDir / file);

@@ -4,7 +4,7 @@
 // single-level instance per placed copy. Leaf outlines are alpha masks applied in both the
 // intersection and the occlusion filter, so shadows see the cut-out.
 
-#include "render/camera.h"
+#include "render/sensors/camera.h"
 #include "render/scene.h"
 
 #include <cstdint>

@@ -4,9 +4,9 @@
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
 #include "geometry/mesh.h"
-#include "render/camera.h"
-#include "render/lights.h"
-#include "render/materials.h"
+#include "render/sensors/camera.h"
+#include "render/lights/lights.h"
+#include "render/materials/materials.h"
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 #include "scenes/species.h"
 
 #include "core/error.h"
-#include "geometry/tree_mesher.h"
+#include "geometry/trees/tree_mesher.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>

@@ -25,8 +25,8 @@
 // sylva::ParseError "file:line: message". Parameters read but not used become warnings.
 
 #include "geometry/mesh.h"
-#include "geometry/tree_model.h"
-#include "geometry/weber_penn.h"
+#include "geometry/trees/tree_model.h"
+#include "geometry/trees/weber_penn/weber_penn.h"
 
 #include <cstdint>
 #include <filesystem>

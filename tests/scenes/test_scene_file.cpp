@@ -21,7 +21,7 @@ reflectance = 0.5
 // Parses `text` and returns the error message ("" if it parsed).
 std::string error_of(const std::string& text) {
   try {
-    parse_scene(text, "scene.toml", SYLVA_SOURCE_DIR "/scenes/examples");
+    parse_scene(text, "scene.toml", SYLVA_SOURCE_DIR "/data/examples");
   } catch (const ParseError& e) {
     return e.what();
   }
@@ -40,7 +40,7 @@ TEST(SceneFile, DefaultSceneParses) {
 
 TEST(SceneFile, ExampleScenesParse) {
   for (const char* name : {"default.toml", "aspen_grove.toml"}) {
-    EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/scenes/examples/" + name)) << name;
+    EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/data/examples/" + name)) << name;
   }
 }
 
@@ -60,7 +60,7 @@ bark = "grey"
 leaf = "grey"
 translate = [10, 0, 0]
 )";
-  const SceneFile f = parse_scene(text, "trees.toml", SYLVA_SOURCE_DIR "/scenes/examples");
+  const SceneFile f = parse_scene(text, "trees.toml", SYLVA_SOURCE_DIR "/data/examples");
   ASSERT_EQ(f.scene.prototypes.size(), 1u);
   EXPECT_EQ(f.scene.instances.size(), 3u);
   EXPECT_EQ(f.scene.instances[1].object_id, 4u);
@@ -186,7 +186,7 @@ namespace {
 
 TEST(SceneFile, MutatedAndTruncatedFilesNeverCrash) {
   // Every mutation either parses or throws a sylva::Error (ParseError for the file's own text).
-  std::ifstream in(SYLVA_SOURCE_DIR "/scenes/examples/default.toml");
+  std::ifstream in(SYLVA_SOURCE_DIR "/data/examples/default.toml");
   const std::string base((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_GT(base.size(), 100u);
   Pcg32 rng(99);
@@ -209,7 +209,7 @@ TEST(SceneFile, MutatedAndTruncatedFilesNeverCrash) {
         text.insert(rng.below(static_cast<uint32_t>(text.size())), 1, junk[rng.below(sizeof(junk) - 1)]);
     }
     try {
-      parse_scene(text, "fuzz.toml", SYLVA_SOURCE_DIR "/scenes/examples");
+      parse_scene(text, "fuzz.toml", SYLVA_SOURCE_DIR "/data/examples");
       ++parsed;
     } catch (const ParseError& e) {
       ++rejected;

@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "scenes/species.h"
-#include "scenes/tree_stats.h"
+#include "geometry/trees/tree_stats.h"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,7 @@
 namespace sylva {
 namespace {
 
-const std::filesystem::path kSpecies = std::filesystem::path(SYLVA_SOURCE_DIR) / "scenes" / "species";
+const std::filesystem::path kSpecies = std::filesystem::path(SYLVA_SOURCE_DIR) / "data" / "species";
 
 const WeberPennParams& wp(const Species& s) { return std::get<WeberPennParams>(s.model); }
 

@@ -14,7 +14,7 @@ namespace sylva {
 namespace {
 
 void fuzz_species(const std::string& name, const std::string& extension) {
-  std::ifstream in(std::string(SYLVA_SOURCE_DIR "/scenes/species/") + name);
+  std::ifstream in(std::string(SYLVA_SOURCE_DIR "/data/species/") + name);
   const std::string base((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_GT(base.size(), 100u) << name;
   Pcg32 rng(7);
@@ -54,7 +54,7 @@ namespace sylva {
 namespace {
 
 TEST(SpeciesFuzz, RunawayBranchingIsAClearErrorNotAnOutOfMemory) {
-  std::ifstream in(SYLVA_SOURCE_DIR "/scenes/species/california_black_oak.toml");
+  std::ifstream in(SYLVA_SOURCE_DIR "/data/species/california_black_oak.toml");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // Each value is within its range; together they ask for ~10^8 stems.
   for (const auto& [from, to] :

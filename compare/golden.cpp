@@ -1,0 +1,126 @@
+#include "compare/golden.h"
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "scenes/toml_reader.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace sylva {
+
+std::vector<GoldenCase> list_golden_cases(const std::filesystem::path& golden_dir) {
+  std::vector<GoldenCase> cases;
+  const auto scenes = golden_dir / "scenes";
+  if (!std::filesystem::is_directory(scenes)) throw Error(scenes.string() + ": no golden scenes directory");
+  for (const auto& e : std::filesystem::directory_iterator(scenes)) {
+    if (e.path().extension() != ".toml") continue;
+    const std::string name = e.path().stem().string();
+    cases.push_back({name, e.path(), golden_dir / (name + ".exr"), golden_dir / (name + ".toml")});
+  }
+  std::sort(cases.begin(), cases.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  return cases;
+}
+
+GoldenRecord read_golden_record(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw ParseError(file, 0, "cannot open golden record (run `sylva golden update`)");
+  std::stringstream text;
+  text << in.rdbuf();
+  TomlReader r(file.string());
+  const toml::table t = r.parse(text.str());
+  r.check_keys(t,
+               {"reference_spp", "reference_seed", "check_spp", "check_seed", "determinism_spp", "determinism_seed",
+                "determinism_hash", "scene_hash", "version"},
+               "a golden record");
+  GoldenRecord g;
+  g.reference_spp = static_cast<int>(r.integer(t, "reference_spp", g.reference_spp, 1, 1 << 24));
+  g.reference_seed = static_cast<uint64_t>(r.integer(t, "reference_seed", 1, 0, INT64_MAX));
+  g.check_spp = static_cast<int>(r.integer(t, "check_spp", g.check_spp, 1, 1 << 24));
+  g.check_seed = static_cast<uint64_t>(r.integer(t, "check_seed", 2, 0, INT64_MAX));
+  g.determinism_spp = static_cast<int>(r.integer(t, "determinism_spp", g.determinism_spp, 1, 1 << 16));
+  g.determinism_seed = static_cast<uint64_t>(r.integer(t, "determinism_seed", 3, 0, INT64_MAX));
+  g.determinism_hash = r.string(t, "determinism_hash");
+  g.scene_hash = r.string(t, "scene_hash", "");
+  g.version = r.string(t, "version", "");
+  return g;
+}
+
+void write_golden_record(const std::filesystem::path& file, const GoldenRecord& g) {
+  write_text_file(file, fmt::format("# Written by `sylva golden update`; see golden/README.md.\n"
+                                    "reference_spp = {}\nreference_seed = {}\ncheck_spp = {}\ncheck_seed = {}\n"
+                                    "determinism_spp = {}\ndeterminism_seed = {}\ndeterminism_hash = \"{}\"\n"
+                                    "scene_hash = \"{}\"\nversion = \"{}\"\n",
+                                    g.reference_spp, g.reference_seed, g.check_spp, g.check_seed, g.determinism_spp,
+                                    g.determinism_seed, g.determinism_hash, g.scene_hash, g.version));
+}
+
+std::string image_hash(const Image& image) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  auto feed = [&](const void* data, size_t n) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
+  };
+  feed(&image.width, sizeof(image.width));
+  feed(&image.height, sizeof(image.height));
+  for (const std::string& c : image.channels) feed(c.data(), c.size() + 1);
+  feed(image.pixels.data(), image.pixels.size() * sizeof(float));
+  return fmt::format("{:016x}", h);
+}
+
+Image render_scene(const SceneFile& file, int spp, uint64_t seed, const std::function<void(RenderSettings&)>& adjust) {
+  RenderSettings settings = render_settings(file);
+  settings.spp = spp;
+  settings.seed = seed;
+  settings.progress = false;
+  if (adjust) adjust(settings);
+  Renderer renderer(file.scene, settings);
+  Film film = renderer.make_film();
+  renderer.render(film);
+  Image image = renderer.make_image(film);
+  annotate_render(image, file, settings);
+  return image;
+}
+
+CompareOptions golden_compare_options() {
+  CompareOptions o;
+  o.abs_tolerances = {{"Z", 1e-3}, {"N.X", 2e-3}, {"N.Y", 2e-3}, {"N.Z", 2e-3}};
+  return o;
+}
+
+void update_golden_case(const GoldenCase& c, const GoldenRecord& settings, bool progress) {
+  const SceneFile file = load_scene_file(c.scene);
+  GoldenRecord g = settings;
+  Image ref = render_scene(file, g.reference_spp, g.reference_seed, [&](RenderSettings& s) { s.progress = progress; });
+  const Image det = render_scene(file, g.determinism_spp, g.determinism_seed);
+  g.determinism_hash = image_hash(det);
+  g.scene_hash = file.content_hash;
+  g.version = SYLVA_VERSION;
+  write_exr(c.reference, ref);
+  write_golden_record(c.record, g);
+}
+
+GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(RenderSettings&)>& adjust,
+                              const std::function<void(Scene&)>& modify) {
+  const GoldenRecord g = read_golden_record(c.record);
+  SceneFile file = load_scene_file(c.scene);
+  if (!g.scene_hash.empty() && g.scene_hash != file.content_hash)
+    throw Error(
+        fmt::format("{}: the scene changed since its reference was rendered (hash {} vs {}); review it and "
+                    "run `sylva golden update --only {}`",
+                    c.scene.string(), file.content_hash, g.scene_hash, c.name));
+  if (modify) modify(file.scene);
+  const Image ref = read_exr(c.reference);
+  GoldenCheck out;
+  out.test = render_scene(file, g.check_spp, g.check_seed, adjust);
+  out.compare = compare_images(out.test, ref, golden_compare_options());
+  out.determinism_hash = image_hash(render_scene(file, g.determinism_spp, g.determinism_seed, adjust));
+  out.determinism_matches = out.determinism_hash == g.determinism_hash;
+  return out;
+}
+
+}  // namespace sylva

@@ -1,0 +1,107 @@
+#include "geometry/trees/tree_stats.h"
+
+#include "core/rng.h"
+
+#include <fmt/core.h>
+
+#include <cstring>
+
+namespace sylva {
+
+namespace {
+
+struct Hasher {
+  uint64_t h = 0x5139a7eull;
+  void add(const void* data, size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    size_t i = 0;
+    for (; i + 8 <= bytes; i += 8) {
+      uint64_t w;
+      std::memcpy(&w, p + i, 8);
+      h = mix64(h ^ w);
+    }
+    uint64_t tail = bytes;
+    for (; i < bytes; ++i) tail = (tail << 8) | p[i];
+    h = mix64(h ^ tail);
+  }
+  template <typename T>
+  void add_vector(const std::vector<T>& v) {
+    add(v.data(), v.size() * sizeof(T));
+  }
+};
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      out += fmt::format("\\u{:04x}", static_cast<int>(c));
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string json_ints(const std::vector<int>& v) {
+  std::string out = "[";
+  for (size_t i = 0; i < v.size(); ++i) out += fmt::format("{}{}", i ? ", " : "", v[i]);
+  return out + "]";
+}
+
+}  // namespace
+
+uint64_t hash_tree_mesh(const TreeMesh& mesh) {
+  Hasher h;
+  h.add_vector(mesh.stems.positions);
+  h.add_vector(mesh.stems.normals);
+  h.add_vector(mesh.stems.uvs);
+  h.add_vector(mesh.stems.triangles);
+  h.add_vector(mesh.leaves.corners);
+  h.add_vector(mesh.leaves.shapes);
+  return h.h;
+}
+
+TreeStats compute_tree_stats(const TreeModel& model, const TreeMesh& mesh) {
+  TreeStats s;
+  for (size_t i = 0; i < model.stems.size(); ++i) {
+    const size_t level = model.stems.level[i];
+    if (s.stems_per_level.size() <= level) {
+      s.stems_per_level.resize(level + 1, 0);
+      s.clones_per_level.resize(level + 1, 0);
+    }
+    ++s.stems_per_level[level];
+    if (model.stems.is_clone(i)) ++s.clones_per_level[level];
+  }
+  s.leaves = static_cast<int>(model.leaves.size());
+  s.vertices = mesh.stems.positions.size();
+  s.triangles = mesh.stems.triangles.size();
+  s.quads = mesh.leaves.size();
+  s.bounds = bounds_of(mesh);
+  s.height_m = s.bounds.empty() ? 0.0f : s.bounds.hi.z - s.bounds.lo.z;
+  for (size_t i = 0; i < mesh.leaves.size(); ++i) s.leaf_area_m2 += leaf_quad_area(mesh.leaves, i);
+  s.mesh_hash = hash_tree_mesh(mesh);
+  return s;
+}
+
+std::string tree_stats_json(const TreeStats& s, const std::string& species, uint64_t seed,
+                            std::optional<double> generation_ms) {
+  std::string out = "{\n";
+  out += fmt::format("  \"species\": {},\n", json_string(species));
+  out += fmt::format("  \"seed\": {},\n", seed);
+  out += fmt::format("  \"stems_per_level\": {},\n", json_ints(s.stems_per_level));
+  out += fmt::format("  \"clones_per_level\": {},\n", json_ints(s.clones_per_level));
+  out += fmt::format("  \"leaves\": {},\n", s.leaves);
+  out += fmt::format("  \"vertices\": {},\n", s.vertices);
+  out += fmt::format("  \"triangles\": {},\n", s.triangles);
+  out += fmt::format("  \"quads\": {},\n", s.quads);
+  out += fmt::format("  \"height_m\": {:.6f},\n", s.height_m);
+  out += fmt::format("  \"bbox_min\": [{:.6f}, {:.6f}, {:.6f}],\n", s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z);
+  out += fmt::format("  \"bbox_max\": [{:.6f}, {:.6f}, {:.6f}],\n", s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z);
+  out += fmt::format("  \"leaf_area_m2\": {:.6f},\n", s.leaf_area_m2);
+  if (generation_ms) out += fmt::format("  \"generation_ms\": {:.3f},\n", *generation_ms);
+  out += fmt::format("  \"mesh_hash\": \"{:016x}\"\n", s.mesh_hash);
+  return out + "}\n";
+}
+
+}  // namespace sylva

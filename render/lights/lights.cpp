@@ -1,0 +1,186 @@
+#include "render/lights/lights.h"
+
+#include "core/data_path.h"
+#include "core/error.h"
+#include "core/table.h"
+
+#include <array>
+
+namespace sylva {
+
+namespace {
+
+constexpr int kSkyPhiBins = 256;
+constexpr int kSkyThetaBins = 128;
+
+struct CieSkyCoefficients {
+  float a, b, c, d, e;
+};
+
+const std::array<CieSkyCoefficients, 15>& cie_sky_table() {
+  static const auto table = [] {
+    const Table t = read_table(data_file("cie_standard_general_sky_15_types.csv"), true, {"description"});
+    std::array<CieSkyCoefficients, 15> out{};
+    if (t.rows() != 15) throw Error("CIE sky table: expected 15 rows");
+    for (size_t r = 0; r < 15; ++r)
+      out[r] = {static_cast<float>(t.columns[t.column("a")][r]), static_cast<float>(t.columns[t.column("b")][r]),
+                static_cast<float>(t.columns[t.column("c")][r]), static_cast<float>(t.columns[t.column("d")][r]),
+                static_cast<float>(t.columns[t.column("e")][r])};
+    return out;
+  }();
+  return table;
+}
+
+}  // namespace
+
+Vec3 sun_direction(float azimuth_deg, float elevation_deg) {
+  const float az = radians(azimuth_deg), el = radians(elevation_deg);
+  return glm::normalize(Vec3(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)));
+}
+
+DenseSpectrum astm_g173_diffuse() {
+  const float cos_incidence = std::cos(radians(48.19f - 37.0f));
+  DenseSpectrum d = astm_g173_global();
+  const DenseSpectrum& b = astm_g173_direct();
+  for (int i = 0; i < kLambdaSamples; ++i) d[i] = std::max(0.0f, d[i] - cos_incidence * b[i]);
+  return d;
+}
+
+float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir) {
+  if (dir.z <= 0) return 0.0f;
+  const CieSkyCoefficients& k = cie_sky_table().at(static_cast<size_t>(type - 1));
+  // Gradation φ(Z) = 1 + a·exp(b / cos Z); indicatrix f(χ) = 1 + c·[exp(dχ) − exp(dπ/2)] + e·cos²χ.
+  auto gradation = [&](float cos_z) { return 1.0f + k.a * std::exp(k.b / std::max(cos_z, 1e-4f)); };
+  auto indicatrix = [&](float chi) {
+    return 1.0f + k.c * (std::exp(k.d * chi) - std::exp(k.d * kPi / 2)) + k.e * sqr(std::cos(chi));
+  };
+  const float chi = safe_acos(glm::dot(dir, sun_dir));
+  const float zs = safe_acos(sun_dir.z);
+  const float value = indicatrix(chi) * gradation(dir.z) / (indicatrix(zs) * gradation(1.0f));
+  return std::max(0.0f, value);
+}
+
+Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sky_(sky) {
+  const Vec3 sun_dir = sun_direction(sun.azimuth_deg, sun.elevation_deg);
+  sky_.sun_direction = sun_dir;
+  if (sky.model == SkyModel::CieStandard && (sky.cie_type < 1 || sky.cie_type > 15))
+    throw Error("sky: CIE standard sky type must be 1..15");
+  if (!(sky.ground_albedo >= 0.0f && sky.ground_albedo <= 1.0f)) throw Error("sky: ground albedo must lie in [0, 1]");
+  has_ground_ = sky.enabled && sky.model == SkyModel::CieStandard && sky.ground_albedo > 0.0f;
+  if (sky.ground_albedo > 0.0f && !has_ground_) throw Error("sky: a ground albedo needs the CIE sky");
+
+  // Sun: a uniform disc whose radiance gives the irradiance at normal incidence, E = π L sin²α.
+  float sun_power = 0;
+  if (sun.enabled) {
+    if (!(sun.angular_radius_deg > 0 && sun.angular_radius_deg < 10))
+      throw Error("sun: angular radius must be in (0, 10) degrees");
+    sun_frame_ = Frame::from_z(sun_dir);
+    sun_one_minus_cos_ = one_minus_cos(radians(sun.angular_radius_deg));
+    sun_radiance_ = sun.irradiance;
+    sun_radiance_ *= 1.0f / (kPi * sqr(std::sin(radians(sun.angular_radius_deg))));
+    sun_power = static_cast<float>(sun.irradiance.integral());
+  }
+
+  // Sky: tabulate the directional shape g(ω) over (φ, θ) with the sin θ Jacobian.
+  float sky_power = 0;
+  if (sky.enabled) {
+    sky_theta_max_ = sky.model == SkyModel::Uniform || has_ground_ ? kPi : 0.5f * kPi;
+    std::vector<float> w(kSkyPhiBins * kSkyThetaBins);
+    double horizontal = 0;  // ∫ g cos θ dω over the upper hemisphere
+    const float dphi = kTwoPi / kSkyPhiBins, dtheta = sky_theta_max_ / kSkyThetaBins;
+    for (int j = 0; j < kSkyThetaBins; ++j) {
+      const float theta = (j + 0.5f) * dtheta;
+      for (int i = 0; i < kSkyPhiBins; ++i) {
+        const Vec3 d = spherical_direction(std::sin(theta), std::cos(theta), (i + 0.5f) * dphi);
+        const float g = sky_shape(d);
+        w[j * kSkyPhiBins + i] = g * std::sin(theta);
+        if (d.z > 0) horizontal += g * d.z * std::sin(theta) * dphi * dtheta;
+      }
+    }
+    if (sky.model == SkyModel::Uniform) {
+      sky_radiance_ = sky.spectrum;
+      sky_power = static_cast<float>(sky.spectrum.integral() * kPi);
+    } else {
+      sky_radiance_ = sky.spectrum;
+      sky_radiance_ *= static_cast<float>(1.0 / horizontal);
+      sky_power = static_cast<float>(sky.spectrum.integral());
+    }
+    if (has_ground_) {
+      // L_ground = a/π · (E_sun sin(elevation) + E_sky,horizontal), uniform over the lower hemisphere;
+      // its table cells are weighted by its power relative to the sky's shape units.
+      ground_radiance_ = sky.spectrum;
+      if (sun.enabled)
+        for (int i = 0; i < kLambdaSamples; ++i) ground_radiance_[i] += sun.irradiance[i] * std::max(0.0f, sun_dir.z);
+      ground_radiance_ *= sky.ground_albedo * kInvPi;
+      const double sky_scale = sky_radiance_.integral();
+      const float ratio = sky_scale > 0 ? static_cast<float>(ground_radiance_.integral() / sky_scale) : 1.0f;
+      for (int j = kSkyThetaBins / 2; j < kSkyThetaBins; ++j)
+        for (int i = 0; i < kSkyPhiBins; ++i) w[j * kSkyPhiBins + i] = ratio * std::sin((j + 0.5f) * dtheta);
+      sky_power += static_cast<float>(ground_radiance_.integral() * kPi);
+    }
+    sky_distribution_ = Distribution2D(w, kSkyPhiBins, kSkyThetaBins);
+  }
+  const float total = sun_power * std::max(0.0f, sun_dir.z) + sky_power;
+  if (sun_power > 0 && sky_power > 0 && total > 0) {
+    p_sun_ = std::clamp(sun_power * std::max(0.0f, sun_dir.z) / total, 0.2f, 0.8f);
+    p_sky_ = 1.0f - p_sun_;
+  } else {
+    p_sun_ = sun_power > 0 ? 1.0f : 0.0f;
+    p_sky_ = sky_power > 0 ? 1.0f : 0.0f;
+  }
+}
+
+float Environment::sky_shape(const Vec3& dir) const {
+  if (sky_.model == SkyModel::Uniform) return 1.0f;
+  return cie_sky_relative_luminance(sky_.cie_type, dir, sky_.sun_direction);
+}
+
+SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths& wl) const {
+  if (!sky_.enabled) return SampledSpectrum(0.0f);
+  if (has_ground_ && dir.z < 0) return ground_radiance_.eval(wl);
+  const float g = sky_shape(dir);
+  return g > 0 ? g * sky_radiance_.eval(wl) : SampledSpectrum(0.0f);
+}
+
+SampledSpectrum Environment::eval(const Vec3& dir, const SampledWavelengths& wl) const {
+  SampledSpectrum l = eval_sky(dir, wl);
+  if (sun_.enabled && in_sun(dir)) l += sun_radiance_.eval(wl);
+  return l;
+}
+
+float Environment::sky_pdf(const Vec3& dir) const {
+  const float theta = safe_acos(dir.z);
+  if (theta >= sky_theta_max_) return 0.0f;
+  float phi = std::atan2(dir.y, dir.x);
+  if (phi < 0) phi += kTwoPi;
+  const float sin_theta = std::sin(theta);
+  if (sin_theta <= 0) return 0.0f;
+  const float p = sky_distribution_.pdf(Vec2(phi * kInvTwoPi, theta / sky_theta_max_));
+  return p / (kTwoPi * sky_theta_max_ * sin_theta);
+}
+
+float Environment::pdf(const Vec3& dir) const {
+  float p = 0;
+  if (p_sun_ > 0 && in_sun(dir)) p += p_sun_ * uniform_cone_pdf(sun_one_minus_cos_);
+  if (p_sky_ > 0) p += p_sky_ * sky_pdf(dir);
+  return p;
+}
+
+LightSample Environment::sample(Vec2 u, float u_select, const SampledWavelengths& wl) const {
+  LightSample s;
+  if (u_select < p_sun_) {
+    s.wi = sun_frame_.to_world(sample_uniform_cone(u, sun_one_minus_cos_));
+  } else if (p_sky_ > 0) {
+    float p = 0;
+    const Vec2 uv = sky_distribution_.sample(u, &p);
+    const float theta = uv.y * sky_theta_max_;
+    s.wi = spherical_direction(std::sin(theta), std::cos(theta), uv.x * kTwoPi);
+  } else {
+    return s;
+  }
+  s.pdf = pdf(s.wi);
+  s.radiance = eval(s.wi, wl);
+  return s;
+}
+
+}  // namespace sylva

@@ -1,0 +1,183 @@
+// Sun and sky: χ² of the mixture sampler against its pdf, normalisation, CIE luminance.
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "render/lights/lights.h"
+#include "tests/support/chi2_directions.h"
+
+#include <gtest/gtest.h>
+
+namespace sylva {
+namespace {
+
+const double kAlpha = sidak_alpha(0.01, 5);  // five χ² tests in this file
+
+Chi2Result chi2_environment(const Environment& env, uint64_t seed) {
+  Pcg32 rng(seed);
+  SampledWavelengths wl;
+  return test::chi2_directions(
+      {},
+      [&](int) {
+        const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), rng.uniform(), wl);
+        EXPECT_NEAR(s.pdf, env.pdf(s.wi), 1e-3f * s.pdf);
+        return s.pdf > 0 ? s.wi : Vec3(0.0f);
+      },
+      [&](const Vec3& d) { return env.pdf(d); });
+}
+
+TEST(Lights, CieSkyChi2) {
+  SunDesc sun;
+  sun.enabled = false;
+  sun.azimuth_deg = 200;
+  sun.elevation_deg = 30;
+  SkyDesc sky;
+  const auto r = chi2_environment(Environment(sun, sky), 11);
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic << " dof " << r.dof;
+}
+
+TEST(Lights, UniformSkyChi2) {
+  SunDesc sun;
+  sun.enabled = false;
+  SkyDesc sky;
+  sky.model = SkyModel::Uniform;
+  sky.spectrum = DenseSpectrum::constant(1.0f);
+  const auto r = chi2_environment(Environment(sun, sky), 12);
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+}
+
+TEST(Lights, CieSkyWithGroundChi2AndRadiance) {
+  SunDesc sun;
+  sun.elevation_deg = 40;
+  SkyDesc sky;
+  sky.ground_albedo = 0.3f;
+  // χ² over the whole sphere with the sun off (the ground is lit by it all the same).
+  SunDesc no_sun = sun;
+  no_sun.enabled = false;
+  const auto r = chi2_environment(Environment(no_sun, sky), 17);
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+  // Below the horizon: L = a/π (E_sun sin(elevation) + E_sky).
+  const Environment env(sun, sky);
+  SampledWavelengths wl;
+  wl.lambda_nm = SampledSpectrum(600.0f);
+  const float expected =
+      0.3f / kPi * (sun.irradiance.eval(600.0f) * std::sin(radians(40.0f)) + sky.spectrum.eval(600.0f));
+  EXPECT_NEAR(env.eval(glm::normalize(Vec3(0.3f, 0.2f, -0.5f)), wl).x, expected, 1e-5f * expected);
+  // A ground needs the CIE sky.
+  SkyDesc uniform;
+  uniform.model = SkyModel::Uniform;
+  uniform.ground_albedo = 0.2f;
+  EXPECT_THROW(Environment(sun, uniform), Error);
+}
+
+TEST(Lights, SunAndSkyMixtureChi2) {
+  // The real 0.27° sun: samples in the disc form one bin (expected: the sun's share plus the sky's
+  // tiny mass there); all others are histogrammed against the sky part of the mixture pdf.
+  SunDesc sun;
+  sun.elevation_deg = 50;
+  SkyDesc sky;
+  const Environment env(sun, sky);
+  const double p_sun = env.sun_selection_probability();
+  ASSERT_GT(p_sun, 0.0);
+  ASSERT_LT(p_sun, 1.0);
+  const double sun_pdf = p_sun * uniform_cone_pdf(env.sun_one_minus_cos());
+  Pcg32 rng(13);
+  SampledWavelengths wl;
+  const auto r = test::chi2_directions(
+      {},
+      [&](int) {
+        const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), rng.uniform(), wl);
+        EXPECT_NEAR(s.pdf, env.pdf(s.wi), 1e-3f * s.pdf);
+        return env.in_sun(s.wi) ? Vec3(0.0f) : s.wi;
+      },
+      [&](const Vec3& d) { return env.pdf(d) - (env.in_sun(d) ? sun_pdf : 0.0); });
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+}
+
+TEST(Lights, SunConeChi2InTheSunsFrame) {
+  // Equal-area bins in ((1 − cos θ)/(1 − cos α), φ) about the solar axis: uniform if correct.
+  SunDesc sun;
+  sun.elevation_deg = 20;
+  sun.azimuth_deg = 250;
+  SkyDesc sky;
+  sky.enabled = false;
+  const Environment env(sun, sky);
+  const Frame f = env.sun_frame();
+  Pcg32 rng(16);
+  SampledWavelengths wl;
+  constexpr int n = 1'000'000, nr = 20, np = 40;
+  std::vector<double> obs(nr * np, 0.0), exp(nr * np, double(n) / (nr * np));
+  for (int i = 0; i < n; ++i) {
+    const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), rng.uniform(), wl);
+    ASSERT_TRUE(env.in_sun(s.wi));
+    const Vec3 l = f.to_local(s.wi);
+    const float omc = 0.5f * glm::dot(s.wi - f.z, s.wi - f.z);  // 1 − cos θ, precisely
+    float phi = std::atan2(l.y, l.x);
+    if (phi < 0) phi += kTwoPi;
+    const int a = std::min(nr - 1, int(omc / env.sun_one_minus_cos() * nr));
+    const int b = std::min(np - 1, int(phi / kTwoPi * np));
+    obs[a * np + b] += 1;
+  }
+  const auto r = chi2_test(obs, exp);
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+}
+
+TEST(Lights, SolarDiscSamplesAndIrradiance) {
+  SunDesc sun;
+  sun.elevation_deg = 35;
+  SkyDesc sky;
+  sky.enabled = false;
+  const Environment env(sun, sky);
+  const Vec3 axis = sun_direction(sun.azimuth_deg, sun.elevation_deg);
+  Pcg32 rng(14);
+  SampledWavelengths wl;
+  wl.lambda_nm = SampledSpectrum(550.0f);
+  // Irradiance on a surface facing the sun, estimated by sampling: E = E[L cos / pdf].
+  double e = 0;
+  constexpr int n = 100000;
+  for (int i = 0; i < n; ++i) {
+    const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), rng.uniform(), wl);
+    ASSERT_TRUE(env.in_sun(s.wi));
+    ASSERT_GT(s.pdf, 0.0f);
+    e += s.radiance.x * glm::dot(s.wi, axis) / s.pdf;
+  }
+  EXPECT_NEAR(e / n, sun.irradiance.eval(550.0f), 1e-3 * sun.irradiance.eval(550.0f));
+}
+
+TEST(Lights, SkyHorizontalIrradianceMatchesItsSpectrum) {
+  SunDesc sun;
+  sun.enabled = false;
+  sun.elevation_deg = 40;
+  for (int type : {1, 5, 12, 15}) {
+    SkyDesc sky;
+    sky.cie_type = type;
+    const Environment env(sun, sky);
+    SampledWavelengths wl;
+    wl.lambda_nm = SampledSpectrum(500.0f);
+    // ∫ L cos θ dω over the upper hemisphere by a fine midpoint rule.
+    double e = 0;
+    constexpr int nt = 400, np = 800;
+    for (int j = 0; j < nt; ++j)
+      for (int i = 0; i < np; ++i) {
+        const double theta = (j + 0.5) * M_PI / 2 / nt, phi = (i + 0.5) * 2 * M_PI / np;
+        const Vec3 d = spherical_direction(float(std::sin(theta)), float(std::cos(theta)), float(phi));
+        e += env.eval_sky(d, wl).x * std::cos(theta) * std::sin(theta) * (M_PI / 2 / nt) * (2 * M_PI / np);
+      }
+    EXPECT_NEAR(e, sky.spectrum.eval(500.0f), 0.01 * sky.spectrum.eval(500.0f)) << "CIE type " << type;
+  }
+}
+
+TEST(Lights, CieRelativeLuminance) {
+  const Vec3 sun = sun_direction(180, 45);
+  // Zenith is the reference (1) for every type; type 5 is uniform everywhere above the horizon.
+  for (int type = 1; type <= 15; ++type) EXPECT_NEAR(cie_sky_relative_luminance(type, {0, 0, 1}, sun), 1.0f, 1e-5f);
+  EXPECT_NEAR(cie_sky_relative_luminance(5, glm::normalize(Vec3(1, 1, 0.2f)), sun), 1.0f, 1e-5f);
+  EXPECT_EQ(cie_sky_relative_luminance(12, {0, 0, -1}, sun), 0.0f);
+  // Clear sky (12): brighter near the sun than opposite it at the same elevation.
+  const Vec3 near_sun = sun_direction(180, 30), away = sun_direction(0, 30);
+  EXPECT_GT(cie_sky_relative_luminance(12, near_sun, sun), 2.0f * cie_sky_relative_luminance(12, away, sun));
+  // Overcast (1): three times brighter at the zenith than at the horizon (Moon & Spencer).
+  EXPECT_NEAR(cie_sky_relative_luminance(1, glm::normalize(Vec3(1, 0, 1e-3f)), sun), 1.0f / 3.0f, 0.01f);
+}
+
+}  // namespace
+}  // namespace sylva

@@ -1,0 +1,86 @@
+// Materials: χ² of the leaf BSDF sampler (reflection and transmission), energy, validation.
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "render/materials/materials.h"
+#include "tests/support/chi2_directions.h"
+
+#include <gtest/gtest.h>
+
+namespace sylva {
+namespace {
+
+const double kAlpha = sidak_alpha(0.01, 3);
+
+SampledWavelengths wl550() {
+  SampledWavelengths wl;
+  wl.lambda_nm = SampledSpectrum(550.0f);
+  return wl;
+}
+
+Chi2Result chi2_bsdf(const Material& m, const Vec3& wo, bool front, uint64_t seed) {
+  const Bsdf bsdf(m, wl550(), front);
+  Pcg32 rng(seed);
+  return test::chi2_directions(
+      {},
+      [&](int) {
+        BsdfSample s;
+        if (!bsdf.sample(wo, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s)) return Vec3(0.0f);
+        EXPECT_NEAR(s.pdf, bsdf.pdf(wo, s.wi), 1e-4f * s.pdf);
+        return s.wi;
+      },
+      [&](const Vec3& wi) { return bsdf.pdf(wo, wi); });
+}
+
+TEST(Materials, LeafSamplingChi2) {
+  const Material leaf = make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.5f));
+  const auto r = chi2_bsdf(leaf, glm::normalize(Vec3(0.3f, -0.2f, 0.9f)), true, 21);
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+  // From the back side (wo below the surface): transmission goes up.
+  const auto r2 = chi2_bsdf(leaf, glm::normalize(Vec3(0.1f, 0.4f, -0.7f)), false, 22);
+  EXPECT_GT(r2.p_value, kAlpha) << "chi2 " << r2.statistic;
+}
+
+TEST(Materials, DiffuseSamplingChi2) {
+  const Material d = make_diffuse("d", DenseSpectrum::constant(0.6f));
+  const auto r = chi2_bsdf(d, glm::normalize(Vec3(-0.5f, 0.1f, 0.4f)), true, 23);
+  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+}
+
+TEST(Materials, LeafEnergyIsReflectancePlusTransmittance) {
+  const Material leaf = make_leaf("leaf", DenseSpectrum::constant(0.2f), DenseSpectrum::constant(0.45f),
+                                  DenseSpectrum::constant(0.1f), DenseSpectrum::constant(0.45f));
+  for (bool front : {true, false}) {
+    const Bsdf bsdf(leaf, wl550(), front);
+    const Vec3 wo = glm::normalize(Vec3(0.2f, 0.3f, 0.8f));
+    Pcg32 rng(24);
+    double reflect = 0, transmit = 0;
+    constexpr int n = 200000;
+    for (int i = 0; i < n; ++i) {
+      BsdfSample s;
+      ASSERT_TRUE(bsdf.sample(wo, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s));
+      // The sample weight equals f·|cos|/pdf computed from eval and pdf.
+      const float expect = bsdf.eval(wo, s.wi).x * std::abs(s.wi.z) / s.pdf;
+      ASSERT_NEAR(s.value.x, expect, 1e-4f);
+      (s.transmitted ? transmit : reflect) += s.value.x;
+    }
+    EXPECT_NEAR(reflect / n, front ? 0.2 : 0.1, 0.005);
+    EXPECT_NEAR(transmit / n, 0.45, 0.005);
+  }
+}
+
+TEST(Materials, RejectsNonPhysicalSpectra) {
+  try {
+    make_leaf("bad_leaf", DenseSpectrum::constant(0.6f), DenseSpectrum::constant(0.5f));
+    FAIL() << "rho + tau > 1 accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad_leaf"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("> 1"), std::string::npos);
+  }
+  EXPECT_THROW(make_diffuse("neg", DenseSpectrum::constant(-0.1f)), Error);
+  EXPECT_THROW(make_diffuse("big", DenseSpectrum::constant(1.2f)), Error);
+  EXPECT_NO_THROW(make_leaf("ok", DenseSpectrum::constant(0.5f), DenseSpectrum::constant(0.5f)));
+}
+
+}  // namespace
+}  // namespace sylva
