@@ -1,5 +1,5 @@
 #pragma once
-// Golden-image regression testing (DESIGN §8). A golden case is a scene file
+// Golden-image regression testing (docs/design.md §8). A golden case is a scene file
 // golden/scenes/<name>.toml with, beside it in golden/:
 //   <name>.exr   the reference: mean, variance of the mean (var.*) and AOVs, rendered at high spp
 //                by `sylva golden update`; its header records spp, seed, version and scene hash;

@@ -1,5 +1,5 @@
 #pragma once
-// Statistical comparison of a test image against a reference (DESIGN §8): the engine behind
+// Statistical comparison of a test image against a reference (docs/design.md §8): the engine behind
 // `sylva compare` and the golden tests.
 //
 // Variance convention: for a channel C, "var.C" holds the variance of the pixel *mean* (the

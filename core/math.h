@@ -1,5 +1,5 @@
 #pragma once
-// Small math vocabulary on GLM. World space is right-handed, Z up (DESIGN §4).
+// Small math vocabulary on GLM. World space is right-handed, Z up (docs/design.md §4).
 // Transforms are named b_from_a. Geometry and shading use float; accumulation uses double.
 
 #include <glm/glm.hpp>

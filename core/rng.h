@@ -1,7 +1,7 @@
 #pragma once
 // Random numbers. Every random decision in Sylva flows from an explicit seed; per-pixel-sample and
 // per-tree streams are derived by hashing (seed, ids) so results never depend on thread count or
-// scheduling (DESIGN §4).
+// scheduling (docs/design.md §4).
 
 #include <cstdint>
 

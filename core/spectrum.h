@@ -1,5 +1,5 @@
 #pragma once
-// Spectra. Wavelengths in nanometres; radiance in W·m⁻²·sr⁻¹·nm⁻¹ (DESIGN §4).
+// Spectra. Wavelengths in nanometres; radiance in W·m⁻²·sr⁻¹·nm⁻¹ (docs/design.md §4).
 //
 // Every spectrum the renderer evaluates per hit is resampled once onto a dense 1 nm grid over
 // [kLambdaMin, kLambdaMax], so evaluation is one lerp. Paths carry kLambdaCount wavelengths at

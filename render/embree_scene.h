@@ -1,5 +1,5 @@
 #pragma once
-// The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp (DESIGN §6).
+// The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp (docs/design.md §6).
 // One BVH per prototype (triangles and leaf quads as two geometries of one Embree scene), one
 // single-level instance per placed copy. Leaf outlines are alpha masks applied in both the
 // intersection and the occlusion filter, so shadows see the cut-out.

@@ -45,7 +45,7 @@ struct TreeOptions {
   float quality = 1;
 };
 
-// The parameters of one tree model; a variant so other generators can join (DESIGN §7).
+// The parameters of one tree model; a variant so other generators can join (docs/design.md §7).
 using SpeciesModel = std::variant<WeberPennParams>;
 
 struct Species {

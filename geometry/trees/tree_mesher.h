@@ -1,5 +1,5 @@
 #pragma once
-// TreeModel → TreeMesh: bark tubes and leaf quads (DESIGN §5). Pure and deterministic.
+// TreeModel → TreeMesh: bark tubes and leaf quads (docs/design.md §5). Pure and deterministic.
 
 #include "geometry/mesh.h"
 #include "geometry/trees/tree_model.h"

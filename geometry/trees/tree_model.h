@@ -1,5 +1,5 @@
 #pragma once
-// TreeModel: the structure a tree generator produces, before meshing (DESIGN §5). Plain data,
+// TreeModel: the structure a tree generator produces, before meshing (docs/design.md §5). Plain data,
 // structs of vectors with index handles. Tree space: metres, Z up, trunk base at the origin.
 
 #include "core/math.h"

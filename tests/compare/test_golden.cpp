@@ -35,7 +35,7 @@ TEST_P(Golden, MatchesReferenceAndDeterminismHash) {
   const GoldenCase c = find_case(GetParam());
   const GoldenCheck r = check_golden_case(c);
   if (!r.compare.passed) {
-    // As DESIGN §8 asks: test, reference, error and p-value EXRs, previews and an HTML report.
+    // As docs/design.md §8 asks: test, reference, error and p-value EXRs, previews and an HTML report.
     const auto dir = std::filesystem::temp_directory_path() / "sylva-golden-report" / c.name;
     write_compare_report(dir, r.test, read_exr(c.reference), r.compare);
     ADD_FAILURE() << "golden " << c.name << " regressed; report: " << (dir / "index.html").string() << "\n"

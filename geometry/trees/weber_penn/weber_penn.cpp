@@ -127,7 +127,7 @@ class Builder {
     z_scale_ = p_.z_scale + p_.z_scale_v * rng.symmetric();
     const WeberPennLevel& l0 = p_.at(0);
     const float length = std::max(0.0f, (l0.length + l0.length_v * rng.symmetric()) * scale_tree_);
-    // §4.4: radius_trunk = length_trunk·Ratio·(0Scale ± 0ScaleV) (DESIGN §5.1).
+    // §4.4: radius_trunk = length_trunk·Ratio·(0Scale ± 0ScaleV) (docs/design.md §5.1).
     const float trunk_scale = p_.trunk_scale + p_.trunk_scale_v * rng.symmetric();
     length_base_ = p_.base_size * scale_tree_;
     if (length < kMinStemLength) return;
@@ -328,7 +328,7 @@ class Builder {
   // about the vertical axis through the split point; the deflection is later corrected over the
   // remaining segments. One clone: the two turn to opposite sides by half of the paper's spread
   // angle each, so they diverge by the "20 to 50 degrees" §4.2 describes for horizontal stems;
-  // k clones: 360/(k+1) degrees apart (DESIGN §5.1). `f` is the stem's frame, updated in place.
+  // k clones: 360/(k+1) degrees apart (docs/design.md §5.1). `f` is the stem's frame, updated in place.
   void split(StemState& s, Frame& f, const Vec3& at, int i, int n, int splits, int stem_index,
              std::vector<StemState>& clones) {
     const WeberPennLevel& lp = p_.at(s.level);
@@ -577,7 +577,7 @@ class Builder {
     m_.sections.arc_m.push_back(arc);
   }
 
-  // ZScale ± ZScaleV scales the finished tree vertically (DESIGN §5.1).
+  // ZScale ± ZScaleV scales the finished tree vertically (docs/design.md §5.1).
   void finish() {
     if (z_scale_ == 1.0f) return;
     auto scale_frame = [&](Frame& f) {
@@ -611,7 +611,7 @@ TreeModel make_weber_penn_tree(const WeberPennParams& params, uint64_t seed) {
   TreeModel model;
   if (params.wind.active() && params.prune_ratio > 0.0f) {
     // Prune the windless tree and reuse its stem lengths, so that the wind moves the stems
-    // without changing the tree's structure (DESIGN §5.1: same seed ⇒ same tree).
+    // without changing the tree's structure (docs/design.md §5.1: same seed ⇒ same tree).
     WeberPennParams calm = params;
     calm.wind = {};
     std::vector<float> lengths;

@@ -1,7 +1,7 @@
 #pragma once
 // The Weber & Penn (1995) tree generator: every parameter of the paper's appendix, plus the
 // Arbaro extensions that have a clear meaning. Sylva's readings of the paper's ambiguous places
-// are DESIGN §5.1; the closed-form formulas live in geometry/weber_penn_shape.h.
+// are docs/design.md §5.1; the closed-form formulas live in geometry/weber_penn_shape.h.
 
 #include "geometry/leaf_shape.h"
 #include "geometry/trees/tree_model.h"

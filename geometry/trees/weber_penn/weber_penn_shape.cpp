@@ -27,7 +27,7 @@ float shape_ratio(int shape, float ratio, const Envelope& envelope) {
       if (ratio < 0.0f || ratio > 1.0f) return 0.0f;
       const float peak = envelope.width_peak;
       if (ratio < 1.0f - peak) return std::pow(ratio / (1.0f - peak), envelope.power_high);
-      // Continuous at the peak (DESIGN §5.1): (1 − ratio)/P, not the printed (1 − ratio)/(1 − P).
+      // Continuous at the peak (docs/design.md §5.1): (1 − ratio)/P, not the printed (1 − ratio)/(1 − P).
       if (peak <= 0.0f) return 1.0f;
       return std::pow((1.0f - ratio) / peak, envelope.power_low);
     }
@@ -64,7 +64,7 @@ float lobe_scale(int lobes, float lobe_depth, float angle_rad) {
 }
 
 bool inside_envelope(const Vec3& p, float scale_tree, float base_size, const Envelope& envelope) {
-  // Weber & Penn §4.6, 'inside', with the horizontal distance (DESIGN §5.1).
+  // Weber & Penn §4.6, 'inside', with the horizontal distance (docs/design.md §5.1).
   const float r = std::sqrt(p.x * p.x + p.y * p.y);
   const float ratio = (scale_tree - p.z) / (scale_tree * (1.0f - base_size));
   return r / scale_tree < envelope.width * shape_ratio(8, ratio, envelope);

@@ -2,7 +2,7 @@
 // The closed-form pieces of the Weber & Penn (1995) tree model, as pure functions so each one can
 // be tested against hand-computed values. Angles are in degrees where the paper uses degrees (the
 // function names say so); lengths in metres. Sylva's readings of the paper's ambiguous places are
-// those of DESIGN §5.1.
+// those of docs/design.md §5.1.
 
 #include "core/math.h"
 
@@ -21,7 +21,7 @@ struct Envelope {
 // Weber & Penn §4.3, ShapeRatio(shape, ratio) for the nine shapes 0..8. Shape 0 (conical) is
 // 0.2 + 0.8·ratio as printed. Shape 8 is the envelope of §4.6; below the peak (ratio ≥ 1 − P) it
 // uses (1 − ratio)/P instead of the printed (1 − ratio)/(1 − P) so that it is continuous at the
-// peak (DESIGN §5.1); it is 0 outside [0, 1]. Other shape ids behave like 3 (cylindrical).
+// peak (docs/design.md §5.1); it is 0 outside [0, 1]. Other shape ids behave like 3 (cylindrical).
 float shape_ratio(int shape, float ratio, const Envelope& envelope = {});
 
 // Weber & Penn §4.4, radius_Z: the tapered radius at unit position z ∈ [0, 1] of a stem with base
@@ -37,7 +37,7 @@ float lobe_scale(int lobes, float lobe_depth, float angle_rad);
 
 // Weber & Penn §4.6, 'inside': whether tree-space point p (metres, trunk base at the origin, before
 // ZScale) lies in the pruning envelope of a tree of height scale_tree whose bare base is BaseSize.
-// Uses the horizontal distance sqrt(x² + y²) (DESIGN §5.1).
+// Uses the horizontal distance sqrt(x² + y²) (docs/design.md §5.1).
 bool inside_envelope(const Vec3& p, float scale_tree, float base_size, const Envelope& envelope);
 
 // Weber & Penn §4.2: error-diffused integer split count. Adds the running `error` of the stem
@@ -53,7 +53,7 @@ float split_spread_deg(float declination_deg, float u);
 
 // Weber & Penn §4.1: the curvature of segment `segment` of `curve_res` (without the random part).
 // nCurveBack = 0: nCurve/nCurveRes each; otherwise 2·nCurve/nCurveRes over the first half and
-// 2·nCurveBack/nCurveRes over the second half (DESIGN §5.1: the total bend is nCurve).
+// 2·nCurveBack/nCurveRes over the second half (docs/design.md §5.1: the total bend is nCurve).
 float segment_curve_deg(float curve, float curve_back, int curve_res, int segment);
 
 // Weber & Penn §4.8, curve_up_segment in radians, from the z components of the segment frame's
@@ -62,7 +62,7 @@ float attraction_up_rad(float attraction_up, float frame_z_z, float frame_y_z, i
 
 // Weber & Penn §4.3, down angle of a child. nDownAngleV ≥ 0: nDownAngle ± nDownAngleV (u ∈ [−1, 1)).
 // nDownAngleV < 0: nDownAngle + nDownAngleV·(1 − 2·ShapeRatio(0, ratio)), no random term, where
-// ratio = (length_parent − offset)/(length_parent − length_base) (DESIGN §5.1).
+// ratio = (length_parent − offset)/(length_parent − length_base) (docs/design.md §5.1).
 float down_angle_deg(float down_angle, float down_angle_v, float position_ratio, float u);
 
 // Weber & Penn §4.3, rotate angle of a child about its parent's z axis in degrees. nRotate ≥ 0:
