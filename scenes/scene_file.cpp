@@ -3,6 +3,7 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/prospect.h"
+#include "core/registry.h"
 #include "core/rng.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitives.h"
@@ -125,27 +126,26 @@ class SceneParser {
     s.irradiance *= t->real("scale", 1.0, 0.0, 1e6);
   }
 
+  // [sky]: model = "none" or a registered sky model (render/lights/lights.h), which reads its own
+  // parameters; spectrum, scale and ground_albedo apply to every model.
   void parse_sky(const Params& root) {
     const Params* t = root.table("sky");
-    t->check_keys({"model", "type", "spectrum", "scale", "ground_albedo"});
     SkyDesc& s = out_.scene.sky;
     const std::string model = t->string("model", "cie");
-    if (model == "cie") {
-      s.model = SkyModel::CieStandard;
-      s.cie_type = static_cast<int>(t->integer("type", s.cie_type, 1, 15));
-    } else if (model == "uniform") {
-      s.model = SkyModel::Uniform;
-      s.spectrum = DenseSpectrum::constant(1.0f);
-    } else if (model == "none") {
+    if (model == "none") {
       s.enabled = false;
     } else {
-      t->fail("model", "sky model must be \"cie\", \"uniform\" or \"none\"");
+      std::optional<SkyModel> m = create_registered<SkyModel>(model, *t);
+      if (!m) t->fail("model", fmt::format("sky model must be {} or \"none\"", registered_names<SkyModel>()));
+      s.model = std::move(*m);
+      s.spectrum = std::visit([](const auto& sky) { return sky.default_spectrum(); }, s.model);
     }
     if (t->has("spectrum")) s.spectrum = t->spectrum("spectrum", Extrapolate::Zero);
     s.spectrum *= t->real("scale", 1.0, 0.0, 1e6);
     s.ground_albedo = t->real("ground_albedo", 0.0, 0.0, 1.0);
-    if (s.ground_albedo > 0 && !(s.enabled && s.model == SkyModel::CieStandard))
+    if (s.ground_albedo > 0 && !(s.enabled && upper_hemisphere_only(s.model)))
       t->fail("ground_albedo", "ground_albedo needs model = \"cie\"");
+    t->check_unused();
   }
 
   // [materials.NAME] tables: the material registry (render/materials/material.h) picks the type and
