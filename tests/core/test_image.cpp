@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/image.h"
+#include "tests/support/atomic_temporaries.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -211,8 +212,7 @@ TEST_F(ImageFiles, FailedWriteThrowsAndLeavesNoPartialFile) {
   fs::create_directories(target / "child");
   EXPECT_THROW(write_exr(target, image), Error);
   EXPECT_TRUE(fs::is_directory(target));
-  for (const auto& e : fs::directory_iterator(dir_))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
 
   // An inconsistent image is refused before anything is written.
   Image broken = make_image(2, 2, {"R"});

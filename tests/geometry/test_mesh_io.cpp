@@ -1,6 +1,7 @@
 #include "geometry/mesh_io.h"
 
 #include "core/error.h"
+#include "tests/support/atomic_temporaries.h"
 
 #include <gtest/gtest.h>
 
@@ -461,7 +462,7 @@ TEST_F(MeshIo, TreeMeshObjRoundTrip) {
   const TreeMesh tree = make_tree();
   const fs::path file = path("tree.obj");
   write_obj(file, tree);
-  EXPECT_FALSE(fs::exists(path("tree.obj.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
   const std::string text = read_all(file);
   EXPECT_NE(text.find("g stems\n"), std::string::npos);
   EXPECT_NE(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Oval)) + "\nusemtl leaves_" +
@@ -481,7 +482,7 @@ TEST_F(MeshIo, TreeMeshPlyRoundTrip) {
   const TreeMesh tree = make_tree();
   const fs::path file = path("tree.ply");
   write_ply(file, tree);
-  EXPECT_FALSE(fs::exists(path("tree.ply.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
   const std::string bytes = read_all(file);
   EXPECT_NE(bytes.find("format binary_little_endian 1.0\n"), std::string::npos);
   EXPECT_NE(bytes.find("property list uchar int vertex_indices\nproperty uchar leaf_shape\n"), std::string::npos);
@@ -543,7 +544,7 @@ TEST_F(MeshIo, WritesAreAtomic) {
   bad.stems.triangles.push_back({0, 1, 99});
   EXPECT_THROW(write_obj(path("bad.obj"), bad), Error);
   EXPECT_FALSE(fs::exists(path("bad.obj")));
-  EXPECT_FALSE(fs::exists(path("bad.obj.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
   TreeMesh nan_leaf = tree;
   nan_leaf.leaves.corners[2].y = std::nanf("");
   EXPECT_THROW(write_ply(path("nan.ply"), nan_leaf), Error);
@@ -552,7 +553,7 @@ TEST_F(MeshIo, WritesAreAtomic) {
   write("over.obj", "old");
   write_obj(path("over.obj"), tree);
   EXPECT_EQ(read_mesh(path("over.obj")).triangles.size(), 18u);
-  EXPECT_FALSE(fs::exists(path("over.obj.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
 }
 
 // ------------------------------------------------------------------------------- robustness
