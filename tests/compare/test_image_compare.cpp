@@ -1,4 +1,4 @@
-// Statistical image comparison (core/image_compare.h) and its report (core/compare_report.h).
+// Statistical image comparison (compare/image_compare.h) and its report (compare/compare_report.h).
 // The power tests draw synthetic Monte Carlo estimates: a pixel mean with spp samples of per-sample
 // standard deviation σ is Gaussian, mean μ, variance σ²/spp, and its estimated variance is
 // σ²/spp · χ²(spp−1)/(spp−1). Fixed seeds; the thresholds leave a wide statistical margin.
