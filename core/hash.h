@@ -29,23 +29,32 @@ inline constexpr uint64_t hash_ids(uint64_t seed, Ids... ids) {
   return h;
 }
 
+// What the byte hashers below share: a 64-bit state fed bytes by the hasher's add(data, bytes),
+// and add_vector for arrays of plain values (their bytes as stored, padding included).
+template <typename Hasher>
+class ByteHasher64 {
+ public:
+  template <typename T>
+  Hasher& add_vector(const std::vector<T>& v) {
+    return static_cast<Hasher&>(*this).add(v.data(), v.size() * sizeof(T));
+  }
+  uint64_t value() const { return h_; }
+
+ protected:
+  explicit ByteHasher64(uint64_t initial) : h_(initial) {}
+  uint64_t h_;
+};
+
 // FNV-1a, 64-bit (Fowler, Noll & Vo; IETF draft-eastlake-fnv), fed a byte stream in pieces: hashing
 // "ab" in one call or as "a" then "b" gives the same value. Used for image and scene-text hashes.
-class Fnv1a64 {
+class Fnv1a64 : public ByteHasher64<Fnv1a64> {
  public:
   static constexpr uint64_t kOffsetBasis = 0xcbf29ce484222325ull;
   static constexpr uint64_t kPrime = 0x100000001b3ull;
 
+  Fnv1a64() : ByteHasher64(kOffsetBasis) {}
   Fnv1a64& add(const void* data, size_t bytes);
   Fnv1a64& add(std::string_view text) { return add(text.data(), text.size()); }
-  template <typename T>
-  Fnv1a64& add_vector(const std::vector<T>& v) {
-    return add(v.data(), v.size() * sizeof(T));
-  }
-  uint64_t value() const { return h_; }
-
- private:
-  uint64_t h_ = kOffsetBasis;
 };
 
 // FNV-1a 64 of a string's bytes.
@@ -55,19 +64,12 @@ uint64_t fnv1a64(std::string_view text);
 // then one closing word: the byte count with the 0-7 remaining bytes shifted in after it, so arrays
 // of different lengths differ even when their bytes agree. Eight bytes per step instead of FNV-1a's
 // one; used for tree mesh hashes (geometry/trees/tree_stats.h).
-class WordHash64 {
+class WordHash64 : public ByteHasher64<WordHash64> {
  public:
   static constexpr uint64_t kSeed = 0x5139a7eull;
 
+  WordHash64() : ByteHasher64(kSeed) {}
   WordHash64& add(const void* data, size_t bytes);
-  template <typename T>
-  WordHash64& add_vector(const std::vector<T>& v) {
-    return add(v.data(), v.size() * sizeof(T));
-  }
-  uint64_t value() const { return h_; }
-
- private:
-  uint64_t h_ = kSeed;
 };
 
 // Sixteen lower-case hexadecimal digits, as hashes are stored in text files.

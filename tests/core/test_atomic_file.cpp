@@ -4,10 +4,9 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "tests/support/atomic_temporaries.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
-
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -24,16 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class AtomicFile : public ::testing::Test {
+class AtomicFile : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("sylva_test_atomic_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static std::string read(const fs::path& file) {
     std::ifstream in(file, std::ios::binary);
     std::ostringstream s;
@@ -42,8 +33,6 @@ class AtomicFile : public ::testing::Test {
   }
   static void put(const fs::path& file, const std::string& bytes) { std::ofstream(file, std::ios::binary) << bytes; }
   std::vector<std::string> temporaries() const { return test::atomic_temporaries_in(dir_); }
-
-  fs::path dir_;
 };
 
 std::string message_of(const std::function<void()>& f) {

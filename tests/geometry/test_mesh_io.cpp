@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "tests/support/atomic_temporaries.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -18,32 +19,19 @@
 #include <tuple>
 #include <vector>
 
-#include <unistd.h>
-
 namespace sylva {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test.
-class MeshIo : public ::testing::Test {
+class MeshIo : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("sylva_mesh_io_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   fs::path write(const std::string& name, const std::string& bytes) const {
     const fs::path p = dir_ / name;
     std::ofstream(p, std::ios::binary) << bytes;
     return p;
   }
   fs::path path(const std::string& name) const { return dir_ / name; }
-
-  fs::path dir_;
 };
 
 std::string read_all(const fs::path& p) {
