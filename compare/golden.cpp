@@ -1,7 +1,7 @@
 #include "compare/golden.h"
 
 #include "core/error.h"
-#include "core/rng.h"
+#include "core/hash.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
@@ -60,16 +60,12 @@ void write_golden_record(const std::filesystem::path& file, const GoldenRecord& 
 }
 
 std::string image_hash(const Image& image) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  auto feed = [&](const void* data, size_t n) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
-  };
-  feed(&image.width, sizeof(image.width));
-  feed(&image.height, sizeof(image.height));
-  for (const std::string& c : image.channels) feed(c.data(), c.size() + 1);
-  feed(image.pixels.data(), image.pixels.size() * sizeof(float));
-  return fmt::format("{:016x}", h);
+  Fnv1a64 h;
+  h.add(&image.width, sizeof(image.width));
+  h.add(&image.height, sizeof(image.height));
+  for (const std::string& c : image.channels) h.add(c.c_str(), c.size() + 1);  // with the terminating 0
+  h.add_vector(image.pixels);
+  return hex64(h.value());
 }
 
 Image render_scene(const SceneFile& file, int spp, uint64_t seed, const std::function<void(RenderSettings&)>& adjust) {

@@ -6,7 +6,7 @@
 //   <name>.toml  the record: reference and check sample counts and seeds, and the hash of a
 //                low-spp render that must be reproduced bit for bit (any logic change shows).
 // Checking renders the scene at the check spp with another seed and compares it statistically
-// with the reference (core/image_compare.h), and re-renders the determinism image.
+// with the reference (compare/image_compare.h), and re-renders the determinism image.
 
 #include "core/image.h"
 #include "compare/image_compare.h"

@@ -1,8 +1,7 @@
 #include "render/film.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
-
-#include <unistd.h>
 
 #include <cstring>
 #include <fstream>
@@ -13,7 +12,7 @@ namespace {
 constexpr char kMagic[8] = {'S', 'Y', 'L', 'V', 'A', 'C', 'K', '1'};
 
 template <typename T>
-void write_pod(std::ofstream& out, const T& v) {
+void write_pod(std::ostream& out, const T& v) {
   out.write(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 template <typename T>
@@ -21,7 +20,7 @@ void read_pod(std::ifstream& in, T& v) {
   in.read(reinterpret_cast<char*>(&v), sizeof(T));
 }
 template <typename T>
-void write_vec(std::ofstream& out, const std::vector<T>& v) {
+void write_vec(std::ostream& out, const std::vector<T>& v) {
   out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
 template <typename T>
@@ -58,10 +57,7 @@ uint64_t Film::total_samples() const {
 }
 
 void Film::save(const std::filesystem::path& file, const std::string& key) const {
-  const std::filesystem::path tmp = file.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot write checkpoint");
+  write_file_atomic(file, [&](std::ostream& out) {
     out.write(kMagic, sizeof(kMagic));
     write_pod(out, static_cast<uint64_t>(key.size()));
     out.write(key.data(), static_cast<std::streamsize>(key.size()));
@@ -71,18 +67,7 @@ void Film::save(const std::filesystem::path& file, const std::string& key) const
     write_vec(out, count_);
     write_vec(out, sum_);
     write_vec(out, sum_sq_);
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(tmp);
-      throw Error(file.string() + ": writing the checkpoint failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw Error(file.string() + ": cannot move the checkpoint into place: " + ec.message());
-  }
+  });
 }
 
 Film Film::load(const std::filesystem::path& file, const std::string& key) {

@@ -2,9 +2,9 @@
 
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/prospect.h"
 #include "core/registry.h"
-#include "core/rng.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitives.h"
 #include "scenes/species.h"
@@ -25,13 +25,7 @@ const char* const kDefaultSceneText =
 #include "scenes/default_scene.inc"
     ;
 
-std::string hex64(uint64_t h) { return fmt::format("{:016x}", h); }
-
-uint64_t hash_text(std::string_view text) {
-  uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a, then mixed
-  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
-  return mix64(h);
-}
+uint64_t hash_text(std::string_view text) { return mix64(fnv1a64(text)); }
 
 // Builds a SceneFile from the document's sections. Each section is parsed by its own small function
 // (the table in parse()); materials, primitives and sky models are chosen through registries, and

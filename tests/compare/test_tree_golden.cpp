@@ -1,6 +1,6 @@
 // Geometry goldens: exact summaries (counts, bounds, leaf area, mesh hash) of the shipped species
 // at fixed seeds, and `sylva tree` end to end. Regenerate the goldens after an intended change
-// with `SYLVA_UPDATE_GOLDEN=1 ./test_scenes --gtest_filter='*TreeGolden*'` (golden/README-geometry.md).
+// with `SYLVA_UPDATE_GOLDEN=1 ./test_compare --gtest_filter='*TreeGolden*'` (golden/README-geometry.md).
 
 #include "scenes/species.h"
 #include "geometry/trees/tree_stats.h"

@@ -1,4 +1,4 @@
-// Tree meshing (geometry/tree_mesher.h): closed tubes, normals, UVs, leaf quads.
+// Tree meshing (geometry/trees/tree_mesher.h): closed tubes, normals, UVs, leaf quads.
 
 #include "geometry/trees/tree_mesher.h"
 #include "geometry/trees/weber_penn/weber_penn.h"
