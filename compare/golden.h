@@ -49,10 +49,11 @@ void write_golden_record(const std::filesystem::path& file, const GoldenRecord& 
 // Hash of an image's channel names and pixel bits (FNV-1a 64, hex): equal iff bit-identical.
 std::string image_hash(const Image& image);
 
-// Renders a scene at `spp` and `seed` (everything else from the file) to an annotated image.
-// `adjust` may change the settings first (e.g. the thread count); `faults` is the power tests' seam
-// (render/testing/faults.h), none by default.
-Image render_scene(const SceneFile& file, int spp, uint64_t seed,
+// Renders a scene at `spp` and `seed` (everything else from the file) to an annotated image,
+// through `embree` (built from file.scene, shared by the case's renders). `adjust` may change the
+// settings first (e.g. the thread count); `faults` is the power tests' seam (render/testing/faults.h),
+// none by default — build `embree` with the same faults.
+Image render_scene(const SceneFile& file, const EmbreeScene& embree, int spp, uint64_t seed,
                    const std::function<void(RenderSettings&)>& adjust = {}, const TransportFaults& faults = {});
 
 // How golden images are compared: statistical radiance channels (z-test + mean-bias test), ids
