@@ -25,15 +25,15 @@ namespace sylva {
 
 struct AspenGrammarParams {
   // The thesis's inputs (Ch. 7: "height, diameter, coordinates, and seeds").
-  float height = 260;     // trunk length, units
-  float diameter = 7;     // trunk diameter at the root, units
-  float unit_m = 0.05f;   // metres per unit
-  int generations = 3;    // deepest generation (trunk = 0, its branches = 1)
+  float height = 260;    // trunk length, units
+  float diameter = 7;    // trunk diameter at the root, units
+  float unit_m = 0.05f;  // metres per unit
+  int generations = 3;   // deepest generation (trunk = 0, its branches = 1)
   // Linear points (6.1): distance = point_spacing × diameter + point_spacing_generation × generation.
   float point_spacing = 3.0f;
   float point_spacing_generation = 2.0f;
-  int bump_every = 5;     // "every fifth linear point is a candidate for bumping"
-  float bump = 0.35f;     // bump amplitude of each minor direction component, in diameters
+  int bump_every = 5;  // "every fifth linear point is a candidate for bumping"
+  float bump = 0.35f;  // bump amplitude of each minor direction component, in diameters
   // Girth (6.9, 6.10): the diameter shrinks along an object by shrinkage × arc / length.
   float trunk_shrinkage = 0.8f;
   float branch_shrinkage = 0.2f;
@@ -48,7 +48,7 @@ struct AspenGrammarParams {
   float length_ratio = 0.618f;
   float length_child_term = 4;
   float length_generation_term = 3;
-  float min_length = 6;  // self-adjustment: no branch shorter than this (units)
+  float min_length = 6;  // self-adjustment: shorter branches are lengthened to this (units)
   // Diameter contraction (6.13): Dc = Dp − Dp × U(min, max).
   float diameter_contraction_min = 0.25f;
   float diameter_contraction_max = 0.45f;
@@ -66,7 +66,9 @@ struct AspenGrammarParams {
   // component falls below `droop_limit` is lifted back to it.
   float sag = 0.03f;
   float droop_limit = -0.25f;
-  // Leaf clusters at the tips of living branches (generation ≥ 1).
+  // Leaf clusters at the tips of living branches (generation ≥ 1) and at every linear point of
+  // living branches of generation ≥ shoot_generation (their short shoots; 0 = none).
+  int shoot_generation = 0;
   int leaves_per_cluster = 10;
   float cluster_radius_m = 0.15f;
   float leaf_length_m = 0.07f;
@@ -76,10 +78,10 @@ struct AspenGrammarParams {
 
 // What the semantic routines decided for each child object, for tests and diagnostics.
 struct AspenChildRecord {
-  int stem = 0;             // the child's stem index in the model
+  int stem = 0;  // the child's stem index in the model
   int parent = 0;
   int generation = 0;
-  int child_number = 0;     // 1 for a stem's first child; 0 for a fork at a tip
+  int child_number = 0;  // 1 for a stem's first child; 0 for a fork at a tip
   bool dead = false;
   bool fork = false;
   float divergence_step_deg = 0;  // azimuth advance from the parent's previous child (0 for the first)
@@ -93,8 +95,8 @@ struct AspenGrammarTrace {
 };
 
 // Grows one aspen. Pure: the same params and seed give a bit-identical model. Stems carry the
-// `dead` flags. Throws sylva::Error ("tree too large: ...") past 200,000 stems.
-TreeModel make_aspen_grammar_tree(const AspenGrammarParams& params, uint64_t seed,
-                                  AspenGrammarTrace* trace = nullptr);
+// `dead` flags. Throws sylva::Error ("tree too large: ...") past 200,000 stems or
+// 4 million cross-sections.
+TreeModel make_aspen_grammar_tree(const AspenGrammarParams& params, uint64_t seed, AspenGrammarTrace* trace = nullptr);
 
 }  // namespace sylva

@@ -89,22 +89,53 @@ float LsExpr::eval(std::span<const float> params) const {
     const float b = s[--n];
     float& a = s[n - 1];
     switch (in.op) {
-      case LsOp::Add: a = a + b; break;
-      case LsOp::Sub: a = a - b; break;
-      case LsOp::Mul: a = a * b; break;
-      case LsOp::Div: a = a / b; break;
-      case LsOp::Pow: a = std::pow(a, b); break;
-      case LsOp::Lt: a = a < b ? 1.0f : 0.0f; break;
-      case LsOp::Le: a = a <= b ? 1.0f : 0.0f; break;
-      case LsOp::Gt: a = a > b ? 1.0f : 0.0f; break;
-      case LsOp::Ge: a = a >= b ? 1.0f : 0.0f; break;
-      case LsOp::Eq: a = a == b ? 1.0f : 0.0f; break;
-      case LsOp::Ne: a = a != b ? 1.0f : 0.0f; break;
-      case LsOp::And: a = (a != 0.0f && b != 0.0f) ? 1.0f : 0.0f; break;
-      case LsOp::Or: a = (a != 0.0f || b != 0.0f) ? 1.0f : 0.0f; break;
-      case LsOp::Min: a = std::min(a, b); break;
-      case LsOp::Max: a = std::max(a, b); break;
-      default: break;
+      case LsOp::Add:
+        a = a + b;
+        break;
+      case LsOp::Sub:
+        a = a - b;
+        break;
+      case LsOp::Mul:
+        a = a * b;
+        break;
+      case LsOp::Div:
+        a = a / b;
+        break;
+      case LsOp::Pow:
+        a = std::pow(a, b);
+        break;
+      case LsOp::Lt:
+        a = a < b ? 1.0f : 0.0f;
+        break;
+      case LsOp::Le:
+        a = a <= b ? 1.0f : 0.0f;
+        break;
+      case LsOp::Gt:
+        a = a > b ? 1.0f : 0.0f;
+        break;
+      case LsOp::Ge:
+        a = a >= b ? 1.0f : 0.0f;
+        break;
+      case LsOp::Eq:
+        a = a == b ? 1.0f : 0.0f;
+        break;
+      case LsOp::Ne:
+        a = a != b ? 1.0f : 0.0f;
+        break;
+      case LsOp::And:
+        a = (a != 0.0f && b != 0.0f) ? 1.0f : 0.0f;
+        break;
+      case LsOp::Or:
+        a = (a != 0.0f || b != 0.0f) ? 1.0f : 0.0f;
+        break;
+      case LsOp::Min:
+        a = std::min(a, b);
+        break;
+      case LsOp::Max:
+        a = std::max(a, b);
+        break;
+      default:
+        break;
     }
   }
   return s[0];
@@ -201,8 +232,7 @@ LsWord expand_lsystem(const LSystem& system, uint64_t seed, size_t max_modules) 
             values[k] = t.args[k].eval(actual);
             if (!std::isfinite(values[k]))
               throw Error(std::string("L-system parameter of module '") + t.symbol + "' became " +
-                          (std::isnan(values[k]) ? "NaN" : "infinite") + " at iteration " +
-                          std::to_string(iteration));
+                          (std::isnan(values[k]) ? "NaN" : "infinite") + " at iteration " + std::to_string(iteration));
           }
           next.push(t.symbol, std::span<const float>(values.data(), t.args.size()));
         }
@@ -266,17 +296,39 @@ class Turtle {
     const float delta = radians(arg_or(p, t_.angle_deg));
     TurtleState& s = state_;
     switch (c) {
-      case 'F': forward(arg_or(p, t_.step), true); break;
-      case 'f': forward(arg_or(p, t_.step), false); break;
-      case '+': rotate_pair(s.h, s.l, delta); break;   // turn left about U
-      case '-': rotate_pair(s.h, s.l, -delta); break;  // turn right
-      case '&': rotate_pair(s.h, s.u, -delta); break;  // pitch down about L
-      case '^': rotate_pair(s.h, s.u, delta); break;   // pitch up
-      case '\\': rotate_pair(s.l, s.u, delta); break;  // roll left about H
-      case '/': rotate_pair(s.l, s.u, -delta); break;  // roll right
-      case '|': s.h = -s.h, s.l = -s.l; break;         // turn around about U
-      case '$': roll_to_horizontal(); break;
-      case '!': s.width = p.empty() ? s.width * t_.width_factor : p[0]; break;
+      case 'F':
+        forward(arg_or(p, t_.step), true);
+        break;
+      case 'f':
+        forward(arg_or(p, t_.step), false);
+        break;
+      case '+':
+        rotate_pair(s.h, s.l, delta);
+        break;  // turn left about U
+      case '-':
+        rotate_pair(s.h, s.l, -delta);
+        break;  // turn right
+      case '&':
+        rotate_pair(s.h, s.u, -delta);
+        break;  // pitch down about L
+      case '^':
+        rotate_pair(s.h, s.u, delta);
+        break;  // pitch up
+      case '\\':
+        rotate_pair(s.l, s.u, delta);
+        break;  // roll left about H
+      case '/':
+        rotate_pair(s.l, s.u, -delta);
+        break;  // roll right
+      case '|':
+        s.h = -s.h, s.l = -s.l;
+        break;  // turn around about U
+      case '$':
+        roll_to_horizontal();
+        break;
+      case '!':
+        s.width = p.empty() ? s.width * t_.width_factor : p[0];
+        break;
       case '[':
         stack_.push_back(s);
         s.branch_from = s.stem >= 0 ? s.stem : s.branch_from;
@@ -287,13 +339,20 @@ class Turtle {
         s = stack_.back();
         stack_.pop_back();
         break;
-      case '~': add_leaf(arg_or(p, 1.0f)); break;
-      case '{': polygons_.push_back({s.pos}); break;
-      case '}': close_polygon(); break;
+      case '~':
+        add_leaf(arg_or(p, 1.0f));
+        break;
+      case '{':
+        polygons_.push_back({s.pos});
+        break;
+      case '}':
+        close_polygon();
+        break;
       case '.':
         if (!polygons_.empty()) polygons_.back().push_back(s.pos);
         break;
-      default: break;  // other symbols (A, X, ', ...) do not move the turtle
+      default:
+        break;  // other symbols (A, X, ', ...) do not move the turtle
     }
   }
 

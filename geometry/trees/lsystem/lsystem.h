@@ -52,7 +52,7 @@ struct LsInstr {
   float value = 0;
 };
 
-inline constexpr int kLsMaxStack = 64;  // deepest evaluation stack an expression may need
+inline constexpr int kLsMaxStack = 64;   // deepest evaluation stack an expression may need
 inline constexpr int kLsMaxParams = 16;  // most parameters one module may carry
 
 struct LsExpr {
@@ -106,14 +106,14 @@ struct LsProduction {
 // How the turtle reads symbols (docs/lsystems.md has the table). Lengths and widths are in turtle
 // units; `unit_m` converts them to metres.
 struct LsTurtle {
-  float angle_deg = 25.7f;     // δ of + - & ^ \ / without argument
-  float step = 1;              // F and f without argument
-  float width = 0.1f;          // initial stem diameter
-  float width_factor = 0.7f;   // ! without argument multiplies the diameter by this
-  float unit_m = 1;            // metres per turtle unit
-  Vec3 tropism{0, 0, -1};      // ABOP §2.2 tropism vector T (tree space, Z up)
-  float tropism_e = 0;         // susceptibility e: each F bends H towards T by e·|H × T| radians
-  float leaf_length = 0.5f;    // ~ draws a leaf this long (× its argument, if any)
+  float angle_deg = 25.7f;    // δ of + - & ^ \ / without argument
+  float step = 1;             // F and f without argument
+  float width = 0.1f;         // initial stem diameter
+  float width_factor = 0.7f;  // ! without argument multiplies the diameter by this
+  float unit_m = 1;           // metres per turtle unit
+  Vec3 tropism{0, 0, -1};     // ABOP §2.2 tropism vector T (tree space, Z up)
+  float tropism_e = 0;        // susceptibility e: each F bends H towards T by e·|H × T| radians
+  float leaf_length = 0.5f;   // ~ draws a leaf this long (× its argument, if any)
   float leaf_width = 0.25f;
   LeafShape leaf_shape = LeafShape::Oval;
 };
