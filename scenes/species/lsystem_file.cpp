@@ -271,7 +271,8 @@ class LsysReader {
       statement(normalise_line(std::string_view(text).substr(start, end - start)), out);
       start = end + 1;
     }
-    line_ = line_no;
+    line_ = std::max(1, static_cast<int>(std::count(text.begin(), text.end(), '\n')) +
+                            (text.empty() || text.back() == '\n' ? 0 : 1));  // the last line
     if (!axiom_line_) fail("missing 'axiom = ...'");
     return out;
   }
