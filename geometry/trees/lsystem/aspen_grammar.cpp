@@ -96,7 +96,7 @@ class AspenGrower {
     st.lobe_depth.push_back(0);
     st.dead.push_back(r.dead ? 1 : 0);
 
-    Vec3 point = r.base, dir = r.dir, ref = across(r.dir, r.ref);
+    Vec3 point = r.base, axis = r.base, dir = r.dir, seg = r.dir, ref = across(r.dir, r.ref);
     float s = 0, arc = 0;
     // Eqs. 6.9, 6.10: the girth at arc s.
     const auto diameter_at = [&](float at) { return r.diameter * (1.0f - shrinkage * at / r.length); };
@@ -105,7 +105,8 @@ class AspenGrower {
         throw Error("tree too large: more than " + std::to_string(kMaxSections) +
                     " cross-sections (raise point_spacing or lower height)");
       m_.sections.positions.push_back(point * u);
-      m_.sections.frames.push_back(Frame{ref, glm::cross(dir, ref), dir});
+      const Vec3 x = across(seg, ref);
+      m_.sections.frames.push_back(Frame{x, glm::cross(seg, x), seg});
       m_.sections.radius_m.push_back(0.5f * d * u);
       m_.sections.arc_m.push_back(arc * u);
     };
@@ -126,8 +127,11 @@ class AspenGrower {
         dir = dir.z < p_.droop_limit ? lift(dir, p_.droop_limit, ref) : glm::normalize(dir);
       }
       // Eq. 6.1: L(n+1) = L(n) + V × distance + B, the bump B every fifth point: the two minor
-      // components of the direction move by a random amount scaled by the diameter.
-      Vec3 next = point + dir * step;
+      // components of the direction move by a random amount scaled by the diameter. The trunk's
+      // points stay about its axis ("linear points that are part of the trunk ... lie along the
+      // y axis"): its bumps are offsets from the axis, not turns.
+      axis += dir * step;
+      Vec3 next = trunk ? axis : point + dir * step;
       if (p_.bump_every > 0 && n % p_.bump_every == 0) {
         const Vec3 a = glm::abs(dir);
         const int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
@@ -135,10 +139,13 @@ class AspenGrower {
           if (k != major) next[k] += p_.bump * d * rng.symmetric();
       }
       const float moved_len = glm::length(next - point);
-      dir = (next - point) / moved_len;
-      if (!trunk && dir.z < p_.droop_limit) {  // the bump may not undo the lifting
-        dir = lift(dir, p_.droop_limit, ref);
-        next = point + dir * moved_len;
+      seg = (next - point) / moved_len;
+      if (!trunk) {
+        dir = seg;
+        if (dir.z < p_.droop_limit) {  // the bump may not undo the lifting
+          dir = seg = lift(dir, p_.droop_limit, ref);
+          next = point + dir * moved_len;
+        }
       }
       ref = across(dir, ref);
       point = next;

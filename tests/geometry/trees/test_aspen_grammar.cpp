@@ -119,7 +119,9 @@ TEST(AspenGrammar, SelfAdjustmentBoundsAnglesAndLengths) {
     for (uint32_t k = first; k < first + m.stems.section_count[parent]; ++k)
       if (m.sections.positions[k] == base) at = k;
     ASSERT_EQ(m.sections.positions[at], base);
-    const float angle = safe_acos(glm::dot(m.sections.frames[at].z, m.sections.frames[m.stems.first_section[stem]].z));
+    // The trunk's direction is its vertical axis (its bumps offset points, they do not turn it).
+    const Vec3 parent_dir = parent == 0 ? Vec3(0, 0, 1) : m.sections.frames[at].z;
+    const float angle = safe_acos(glm::dot(parent_dir, m.sections.frames[m.stems.first_section[stem]].z));
     EXPECT_NEAR(angle, c.branch_angle_rad, 2e-3f);
     if (!c.fork && !c.dead) {
       // Eq. 6.12: golden-ratio contraction minus the child-number and generation terms, or the
