@@ -20,7 +20,7 @@ std::vector<Band> test_bands() { return {resolve_band("rgb"), resolve_band("nir"
 Scene furnace_scene() {
   Scene s;
   s.sun.enabled = false;
-  s.sky.model = SkyModel::Uniform;
+  s.sky.model = UniformSky{};
   s.sky.spectrum = DenseSpectrum::constant(1.0f);
   s.camera.position = {0, -6, 0.5f};
   s.camera.target = {0, 0, 0.5f};
