@@ -528,52 +528,9 @@ LSystemSpecies parse_lsystem(const std::string& text, const std::filesystem::pat
 
 AspenGrammarSpecies parse_aspen_grammar(const std::string& text, const std::filesystem::path& file) {
   AspenGrammarSpecies out;
-  out.name = file.stem().string();
-  AspenGrammarParams& p = out.params;
-  struct Field {
-    float* f = nullptr;
-    int* i = nullptr;
-    double lo, hi;
-  };
-  const std::map<std::string, Field> fields = {
-      {"height", {&p.height, nullptr, 1e-3, 1e6}},
-      {"diameter", {&p.diameter, nullptr, 1e-4, 1e5}},
-      {"unit_m", {&p.unit_m, nullptr, 1e-6, 1e3}},
-      {"generations", {nullptr, &p.generations, 0, 8}},
-      {"point_spacing", {&p.point_spacing, nullptr, 0.1, 1e3}},
-      {"point_spacing_generation", {&p.point_spacing_generation, nullptr, 0, 1e5}},
-      {"bump_every", {nullptr, &p.bump_every, 0, 1000}},
-      {"bump", {&p.bump, nullptr, 0, 10}},
-      {"trunk_shrinkage", {&p.trunk_shrinkage, nullptr, 0, 1}},
-      {"branch_shrinkage", {&p.branch_shrinkage, nullptr, 0, 1}},
-      {"first_trunk_point", {nullptr, &p.first_trunk_point, 1, 10000}},
-      {"min_diameter", {&p.min_diameter, nullptr, 0, 1e5}},
-      {"branch_probability", {&p.branch_probability, nullptr, 0, 1}},
-      {"dead_probability", {&p.dead_probability, nullptr, 0, 1}},
-      {"dead_length", {&p.dead_length, nullptr, 0, 1}},
-      {"length_ratio", {&p.length_ratio, nullptr, 0, 0.95}},
-      {"length_child_term", {&p.length_child_term, nullptr, 0, 1e5}},
-      {"length_generation_term", {&p.length_generation_term, nullptr, 0, 1e5}},
-      {"min_length", {&p.min_length, nullptr, 1e-3, 1e6}},
-      {"diameter_contraction_min", {&p.diameter_contraction_min, nullptr, 0, 1}},
-      {"diameter_contraction_max", {&p.diameter_contraction_max, nullptr, 0, 1}},
-      {"fork_probability", {&p.fork_probability, nullptr, 0, 1}},
-      {"divergence_deg", {&p.divergence_deg, nullptr, -360, 360}},
-      {"divergence_noise_deg", {&p.divergence_noise_deg, nullptr, 0, 180}},
-      {"branch_angle_base_deg", {&p.branch_angle_base_deg, nullptr, 0, 180}},
-      {"branch_angle_child_rad", {&p.branch_angle_child_rad, nullptr, -10, 10}},
-      {"branch_angle_generation_rad", {&p.branch_angle_generation_rad, nullptr, -10, 10}},
-      {"min_branch_angle_rad", {&p.min_branch_angle_rad, nullptr, 0, kPi}},
-      {"sag", {&p.sag, nullptr, -1, 1}},
-      {"droop_limit", {&p.droop_limit, nullptr, -1, 1}},
-      {"shoot_generation", {nullptr, &p.shoot_generation, 0, 8}},
-      {"leaves_per_cluster", {nullptr, &p.leaves_per_cluster, 0, 1000}},
-      {"cluster_radius_m", {&p.cluster_radius_m, nullptr, 0, 100}},
-      {"leaf_length_m", {&p.leaf_length_m, nullptr, 0, 10}},
-      {"leaf_width_m", {&p.leaf_width_m, nullptr, 0, 10}},
-  };
+  Params params(file.string(), 1, "the grammar file");
   std::map<std::string, int> seen;
-  int line_no = 0, prob_line = 0, contraction_line = 0;
+  int line_no = 0;
   size_t start = 0;
   const auto fail = [&](int line, const std::string& what) { throw ParseError(file, line, what); };
   while (start <= text.size()) {
@@ -587,49 +544,33 @@ AspenGrammarSpecies parse_aspen_grammar(const std::string& text, const std::file
     if (eq == std::string::npos) fail(line_no, fmt::format("expected 'key = value', not '{}'", line));
     const std::string key(trim(std::string_view(line).substr(0, eq)));
     const std::string value(trim(std::string_view(line).substr(eq + 1)));
+    if (key.empty()) fail(line_no, "expected a key before '='");
     if (value.empty()) fail(line_no, fmt::format("'{}' needs a value", key));
     if (const auto it = seen.find(key); it != seen.end())
       fail(line_no, fmt::format("'{}' given twice (first on line {})", key, it->second));
     seen.emplace(key, line_no);
+    ParamValue v;
+    v.line = line_no;
     const bool quoted = value.size() >= 2 && value.front() == '"' && value.back() == '"';
-    const std::string text_value = quoted ? value.substr(1, value.size() - 2) : value;
     if (!quoted && value.find('"') != std::string::npos) fail(line_no, fmt::format("unbalanced quotes in {}", value));
-    if (key == "name") {
-      out.name = text_value;
-      continue;
-    }
-    if (key == "model") {
-      if (text_value != "aspen-grammar")
-        fail(line_no, fmt::format("model must be \"aspen-grammar\" in a grammar file, not {}", value));
-      continue;
-    }
-    if (key == "leaf_shape") {
-      const std::optional<LeafShape> shape = leaf_shape_from_name(text_value);
-      if (!shape) fail(line_no, fmt::format("unknown leaf_shape {}", value));
-      p.leaf_shape = *shape;
-      continue;
-    }
-    const auto f = fields.find(key);
-    if (f == fields.end()) fail(line_no, fmt::format("unknown parameter '{}'", key));
-    double v = 0;
-    const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
-    if (ec != std::errc() || ptr != value.data() + value.size() || !std::isfinite(v))
-      fail(line_no, fmt::format("'{}' must be a number, not {}", key, value));
-    if (v < f->second.lo || v > f->second.hi)
-      fail(line_no, fmt::format("'{}' must be in [{}, {}], not {}", key, f->second.lo, f->second.hi, value));
-    if (f->second.i != nullptr) {
-      if (v != std::floor(v)) fail(line_no, fmt::format("'{}' must be an integer, not {}", key, value));
-      *f->second.i = static_cast<int>(v);
+    double x = 0;
+    const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), x);
+    if (!quoted && ec == std::errc() && ptr == value.data() + value.size()) {
+      v.kind = ParamValue::Kind::Real;
+      v.real = x;
     } else {
-      *f->second.f = static_cast<float>(v);
+      v.kind = ParamValue::Kind::String;
+      v.string = quoted ? value.substr(1, value.size() - 2) : value;
     }
-    if (key == "branch_probability" || key == "dead_probability") prob_line = line_no;
-    if (key == "diameter_contraction_min" || key == "diameter_contraction_max") contraction_line = line_no;
+    params.add(key, std::move(v));
   }
-  if (p.branch_probability + p.dead_probability > 1.0f)
-    fail(prob_line, "branch_probability + dead_probability must be at most 1");
-  if (p.diameter_contraction_min > p.diameter_contraction_max)
-    fail(contraction_line, "diameter_contraction_min must not exceed diameter_contraction_max");
+  out.name = params.string("name", file.stem().string());
+  const std::string model = params.string("model", std::string(AspenGrammarParams::kType));
+  if (model != AspenGrammarParams::kType)
+    params.fail("model",
+                fmt::format("model must be \"{}\" in a grammar file, not \"{}\"", AspenGrammarParams::kType, model));
+  std::vector<std::string> warnings;
+  out.params = AspenGrammarParams::create(params, warnings);
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "geometry/trees/tree_mesher.h"
+#include "scenes/species.h"
 #include "scenes/species/lsystem_file.h"
 
 #include <gtest/gtest.h>
@@ -122,9 +123,9 @@ TEST(AspenGrammarFile, ShippedSpeciesParsesAndGrows) {
 TEST(AspenGrammarFile, MistakesNameFileAndLine) {
   const std::pair<const char*, const char*> cases[] = {
       {"height = 100\nheight = 200\n", "a.grammar:2: 'height' given twice (first on line 1)"},
-      {"hieght = 100\n", "a.grammar:1: unknown parameter 'hieght'"},
+      {"hieght = 100\n", "a.grammar:1: unknown key 'hieght' in the grammar file"},
       {"\ngenerations = 2.5\n", "a.grammar:2: 'generations' must be an integer"},
-      {"height = -3\n", "a.grammar:1: 'height' must be in"},
+      {"height = -3\n", "a.grammar:1: 'height' must lie in"},
       {"height = tall\n", "a.grammar:1: 'height' must be a number"},
       {"branch_probability = 0.9\ndead_probability = 0.3\n", "a.grammar:2: branch_probability + dead_probability"},
       {"model = \"weber-penn\"\n", "a.grammar:1: model must be \"aspen-grammar\""},
@@ -138,6 +139,30 @@ TEST(AspenGrammarFile, MistakesNameFileAndLine) {
     } catch (const ParseError& e) {
       EXPECT_EQ(std::string(e.what()).rfind(expected, 0), 0u) << e.what() << "\nexpected: " << expected;
     }
+  }
+}
+
+TEST(LsystemSpecies, RegisteredByExtensionAndModelKey) {
+  const Species aspen = load_species(SYLVA_SOURCE_DIR "/data/species/quaking_aspen.grammar");
+  ASSERT_TRUE(std::holds_alternative<AspenGrammarParams>(aspen.model));
+  const Species bush = load_species(SYLVA_SOURCE_DIR "/data/species/abop_bush.lsys");
+  ASSERT_TRUE(std::holds_alternative<LSystem>(bush.model));
+  EXPECT_GT(make_species_mesh(bush, 1).leaves.size(), 100u);
+  // The grammar mesh uses the thesis's 8-point circles on every stem.
+  TreeMeshOptions eight;
+  eight.radial_segments = {8, 8, 8, 8};
+  const TreeMesh mesh = make_species_mesh(aspen, 1);
+  EXPECT_EQ(mesh.stems.positions, make_tree_mesh(make_species_model(aspen, 1), eight).stems.positions);
+  EXPECT_NE(mesh.stems.positions.size(), make_tree_mesh(make_species_model(aspen, 1)).stems.positions.size());
+  // A TOML species may name the aspen grammar too; an L-system needs its .lsys file.
+  const Species toml = parse_species("model = \"aspen-grammar\"\nheight = 200\ngenerations = 2\n", "a.toml");
+  EXPECT_FLOAT_EQ(std::get<AspenGrammarParams>(toml.model).height, 200.0f);
+  try {
+    parse_species("model = \"lsystem\"\n", "l.toml");
+    FAIL() << "an L-system without productions was accepted";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("l.toml:1: an L-system is written as a .lsys file"), std::string::npos)
+        << e.what();
   }
 }
 

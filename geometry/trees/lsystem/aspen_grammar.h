@@ -15,15 +15,23 @@
 // units (its constants 4, 3 and 6.0 are in them); `unit_m` converts to metres. Sylva's readings
 // of the open places are docs/lsystems.md.
 
+#include "core/params.h"
 #include "geometry/leaf_shape.h"
 #include "geometry/trees/tree_model.h"
 
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace sylva {
 
 struct AspenGrammarParams {
+  // Registry entry (geometry/trees/tree_models.h): `model = "aspen-grammar"`; the parameters are
+  // the fields below by name, each range-checked (aspen_grammar_params.cpp).
+  static constexpr std::string_view kType = "aspen-grammar";
+  static AspenGrammarParams create(const Params& params, std::vector<std::string>& warnings);
+
   // The thesis's inputs (Ch. 7: "height, diameter, coordinates, and seeds").
   float height = 260;    // trunk length, units
   float diameter = 7;    // trunk diameter at the root, units
@@ -98,5 +106,10 @@ struct AspenGrammarTrace {
 // `dead` flags. Throws sylva::Error ("tree too large: ...") past 200,000 stems or
 // 4 million cross-sections.
 TreeModel make_aspen_grammar_tree(const AspenGrammarParams& params, uint64_t seed, AspenGrammarTrace* trace = nullptr);
+
+// The registry's generator: the options (wind, quality) do not apply to this model.
+inline TreeModel make_tree(const AspenGrammarParams& params, uint64_t seed, const TreeOptions&) {
+  return make_aspen_grammar_tree(params, seed);
+}
 
 }  // namespace sylva

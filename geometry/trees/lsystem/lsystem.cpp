@@ -508,6 +508,10 @@ class Turtle {
 
 }  // namespace
 
+LSystem LSystem::create(const Params& params, std::vector<std::string>&) {
+  params.fail("model", "an L-system is written as a .lsys file with its axiom and productions (docs/lsystems.md)");
+}
+
 TreeModel interpret_lsystem(const LsWord& word, const LsTurtle& turtle) { return Turtle(turtle).run(word); }
 
 TreeModel make_lsystem_tree(const LSystem& system, uint64_t seed) {

@@ -5,6 +5,7 @@
 // `interpret_lsystem` walks the word with a turtle into a TreeModel. The text format that builds
 // these structs is scenes/species/lsystem_file.h; the conventions are docs/lsystems.md.
 
+#include "core/params.h"
 #include "geometry/leaf_shape.h"
 #include "geometry/trees/tree_model.h"
 
@@ -119,6 +120,11 @@ struct LsTurtle {
 };
 
 struct LSystem {
+  // Registry entry (geometry/trees/tree_models.h). L-systems are written as .lsys files
+  // (scenes/species/lsystem_file.h); `create` from a table of parameters reports that.
+  static constexpr std::string_view kType = "lsystem";
+  static LSystem create(const Params& params, std::vector<std::string>& warnings);
+
   LsWord axiom;
   std::vector<LsProduction> productions;
   int iterations = 0;
@@ -144,5 +150,10 @@ TreeModel interpret_lsystem(const LsWord& word, const LsTurtle& turtle);
 
 // Expands and interprets. Pure: the same system and seed give a bit-identical model.
 TreeModel make_lsystem_tree(const LSystem& system, uint64_t seed);
+
+// The registry's generator: the options (wind, quality) do not apply to L-systems.
+inline TreeModel make_tree(const LSystem& system, uint64_t seed, const TreeOptions&) {
+  return make_lsystem_tree(system, seed);
+}
 
 }  // namespace sylva
