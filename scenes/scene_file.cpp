@@ -99,16 +99,20 @@ class SceneParser {
     }
   }
 
+  // [camera]: the view frame, and a projection from the registry (render/sensors/camera.h) that
+  // reads its own parameters.
   void parse_camera(const Params& root) {
     const Params* t = root.table("camera");
-    t->check_keys({"position", "target", "up", "vfov", "aperture_radius", "focus_distance"});
     CameraDesc& c = out_.scene.camera;
     c.position = t->vec3("position", c.position);
     c.target = t->vec3("target", c.target);
     c.up = t->vec3("up", c.up);
-    c.vfov_deg = t->real("vfov", c.vfov_deg, 0.01, 179.0);
-    c.aperture_radius_m = t->real("aperture_radius", c.aperture_radius_m, 0.0, 100.0);
-    c.focus_distance_m = t->real("focus_distance", c.focus_distance_m, 0.0, 1e6);
+    const std::string type = t->string("type", "perspective");
+    std::optional<Projection> projection = create_registered<Projection>(type, *t);
+    if (!projection)
+      t->fail("type", fmt::format("camera type must be {}, not \"{}\"", registered_names<Projection>(), type));
+    c.projection = std::move(*projection);
+    t->check_unused();
     if (glm::length(c.target - c.position) <= 0) t->fail("camera position and target must differ");
     if (glm::length(glm::cross(glm::normalize(c.target - c.position), c.up)) < 1e-4f)
       t->fail("camera up must not be parallel to the view direction");
