@@ -125,106 +125,91 @@ std::vector<PreviewItem> make_items(const CompareResult& result) {
 
 std::string format_share(double share) { return fmt::format("{:.4g}%", 100.0 * share); }
 
-}  // namespace
-
-void write_compare_report(const std::filesystem::path& dir, const Image& test, const Image& ref,
-                          const CompareResult& result, const ReportOptions& options) {
-  const std::vector<std::string> views = ocio_views();
-  if (std::find(views.begin(), views.end(), options.view) == views.end()) {
-    float probe[3] = {0.0f, 0.0f, 0.0f};
-    apply_display_transform(probe, 1, options.view);  // throws, naming the available views
-  }
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir))
-    throw Error(dir.string() + ": cannot create report directory" + (ec ? ": " + ec.message() : ""));
-
-  write_exr(dir / "test.exr", test);
-  write_exr(dir / "ref.exr", ref);
-  write_exr(dir / "error.exr", result.error);
-  write_exr(dir / "pvalue.exr", result.pvalue);
-
-  const std::vector<PreviewItem> items = make_items(result);
-  for (const PreviewItem& item : items) {
-    // The item's three channels of test, reference and |diff|·k as R,G,B images. Radiometric
-    // channels keep their values (linear Rec.709 for the view); data channels (depth, normals,
-    // ids) are mapped from the reference's [min, max] to [0, 1].
-    float lo = 0.0f, span = 1.0f;
-    if (!item.radiometric) {
-      float hi = -std::numeric_limits<float>::infinity();
-      lo = std::numeric_limits<float>::infinity();
-      for (const std::string& name : item.channels) {
-        const int c = ref.find_channel(name);
-        for (int y = 0; y < ref.height; ++y)
-          for (int x = 0; x < ref.width; ++x)
-            if (const float v = ref.at(x, y, c); std::isfinite(v)) {
-              lo = std::min(lo, v);
-              hi = std::max(hi, v);
-            }
-      }
-      if (!(hi > lo)) {
-        span = std::isfinite(lo) && lo != 0.0f ? std::abs(lo) : 1.0f;
-        lo = std::isfinite(lo) ? lo - span : 0.0f;
-      } else {
-        span = hi - lo;
-      }
-    }
-    Image t3 = make_image(ref.width, ref.height, {"R", "G", "B"});
-    Image r3 = t3, d3 = t3;
-    for (int c = 0; c < 3; ++c) {
-      const int tc = test.find_channel(item.channels[static_cast<size_t>(c)]);
-      const int rc = ref.find_channel(item.channels[static_cast<size_t>(c)]);
+// Writes the item's previews: test, reference and |diff|·k, and the rejecting pixels over the dimmed
+// reference (tiles failing the local bias test outlined).
+void write_item_previews(const std::filesystem::path& dir, const Image& test, const Image& ref,
+                         const CompareResult& result, const ReportOptions& options, const PreviewItem& item) {
+  // The item's three channels of test, reference and |diff|·k as R,G,B images. Radiometric
+  // channels keep their values (linear Rec.709 for the view); data channels (depth, normals,
+  // ids) are mapped from the reference's [min, max] to [0, 1].
+  float lo = 0.0f, span = 1.0f;
+  if (!item.radiometric) {
+    float hi = -std::numeric_limits<float>::infinity();
+    lo = std::numeric_limits<float>::infinity();
+    for (const std::string& name : item.channels) {
+      const int c = ref.find_channel(name);
       for (int y = 0; y < ref.height; ++y)
-        for (int x = 0; x < ref.width; ++x) {
-          const float t = test.at(x, y, tc), r = ref.at(x, y, rc);
-          t3.at(x, y, c) = (t - lo) / span;
-          r3.at(x, y, c) = (r - lo) / span;
-          d3.at(x, y, c) = std::abs(t - r) / span * options.diff_scale;
-        }
-    }
-    PreviewOptions preview;
-    preview.view = options.view;
-    preview.exposure_ev = item.radiometric ? options.exposure_ev : 0.0f;
-    write_png_preview(dir / (item.slug + "_test.png"), t3, preview);
-    const std::vector<uint8_t> ref_rgb = make_preview_rgb8(r3, preview);
-    write_png_rgb8(dir / (item.slug + "_ref.png"), ref.width, ref.height, ref_rgb);
-    write_png_preview(dir / (item.slug + "_diff.png"), d3, preview);
-
-    // Rejecting pixels of this item in red over the dimmed reference.
-    std::vector<uint8_t> reject_rgb(ref_rgb.size());
-    for (int y = 0; y < ref.height; ++y)
-      for (int x = 0; x < ref.width; ++x) {
-        const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
-        bool rejected = false;
-        for (size_t i : item.result_channels) {
-          const ChannelReport& c = result.channels[i];
-          const float e = result.error.at(x, y, static_cast<int>(i));
-          rejected = rejected || (c.test == ChannelTest::ZTest   ? (!std::isfinite(e) || e > result.z_critical)
-                                  : c.test == ChannelTest::Exact ? e > 0.0f
-                                                                 : (!std::isfinite(e) || e > 1.0f));
-        }
-        for (size_t k = 0; k < 3; ++k)
-          reject_rgb[p * 3 + k] = rejected ? (k == 0 ? 255 : 0) : static_cast<uint8_t>(ref_rgb[p * 3 + k] * 2 / 5);
-      }
-    // Tiles failing the local mean-bias test get a yellow outline.
-    for (size_t i : item.result_channels) {
-      const ChannelReport& c = result.channels[i];
-      if (!c.tile_failed) continue;
-      const int x1 = std::min(ref.width, c.tile_x + result.bias_tile) - 1;
-      const int y1 = std::min(ref.height, c.tile_y + result.bias_tile) - 1;
-      for (int y = c.tile_y; y <= y1; ++y)
-        for (int x = c.tile_x; x <= x1; ++x)
-          if (x == c.tile_x || x == x1 || y == c.tile_y || y == y1) {
-            const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
-            reject_rgb[p * 3 + 0] = 255;
-            reject_rgb[p * 3 + 1] = 220;
-            reject_rgb[p * 3 + 2] = 0;
+        for (int x = 0; x < ref.width; ++x)
+          if (const float v = ref.at(x, y, c); std::isfinite(v)) {
+            lo = std::min(lo, v);
+            hi = std::max(hi, v);
           }
     }
-    write_png_rgb8(dir / (item.slug + "_reject.png"), ref.width, ref.height, reject_rgb);
+    if (!(hi > lo)) {
+      span = std::isfinite(lo) && lo != 0.0f ? std::abs(lo) : 1.0f;
+      lo = std::isfinite(lo) ? lo - span : 0.0f;
+    } else {
+      span = hi - lo;
+    }
   }
+  Image t3 = make_image(ref.width, ref.height, {"R", "G", "B"});
+  Image r3 = t3, d3 = t3;
+  for (int c = 0; c < 3; ++c) {
+    const int tc = test.find_channel(item.channels[static_cast<size_t>(c)]);
+    const int rc = ref.find_channel(item.channels[static_cast<size_t>(c)]);
+    for (int y = 0; y < ref.height; ++y)
+      for (int x = 0; x < ref.width; ++x) {
+        const float t = test.at(x, y, tc), r = ref.at(x, y, rc);
+        t3.at(x, y, c) = (t - lo) / span;
+        r3.at(x, y, c) = (r - lo) / span;
+        d3.at(x, y, c) = std::abs(t - r) / span * options.diff_scale;
+      }
+  }
+  PreviewOptions preview;
+  preview.view = options.view;
+  preview.exposure_ev = item.radiometric ? options.exposure_ev : 0.0f;
+  write_png_preview(dir / (item.slug + "_test.png"), t3, preview);
+  const std::vector<uint8_t> ref_rgb = make_preview_rgb8(r3, preview);
+  write_png_rgb8(dir / (item.slug + "_ref.png"), ref.width, ref.height, ref_rgb);
+  write_png_preview(dir / (item.slug + "_diff.png"), d3, preview);
 
-  // index.html
+  // Rejecting pixels of this item in red over the dimmed reference.
+  std::vector<uint8_t> reject_rgb(ref_rgb.size());
+  for (int y = 0; y < ref.height; ++y)
+    for (int x = 0; x < ref.width; ++x) {
+      const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
+      bool rejected = false;
+      for (size_t i : item.result_channels) {
+        const ChannelReport& c = result.channels[i];
+        const float e = result.error.at(x, y, static_cast<int>(i));
+        rejected = rejected || (c.test == ChannelTest::ZTest   ? (!std::isfinite(e) || e > result.z_critical)
+                                : c.test == ChannelTest::Exact ? e > 0.0f
+                                                               : (!std::isfinite(e) || e > 1.0f));
+      }
+      for (size_t k = 0; k < 3; ++k)
+        reject_rgb[p * 3 + k] = rejected ? (k == 0 ? 255 : 0) : static_cast<uint8_t>(ref_rgb[p * 3 + k] * 2 / 5);
+    }
+  // Tiles failing the local mean-bias test get a yellow outline.
+  for (size_t i : item.result_channels) {
+    const ChannelReport& c = result.channels[i];
+    if (!c.tile_failed) continue;
+    const int x1 = std::min(ref.width, c.tile_x + result.bias_tile) - 1;
+    const int y1 = std::min(ref.height, c.tile_y + result.bias_tile) - 1;
+    for (int y = c.tile_y; y <= y1; ++y)
+      for (int x = c.tile_x; x <= x1; ++x)
+        if (x == c.tile_x || x == x1 || y == c.tile_y || y == y1) {
+          const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
+          reject_rgb[p * 3 + 0] = 255;
+          reject_rgb[p * 3 + 1] = 220;
+          reject_rgb[p * 3 + 2] = 0;
+        }
+  }
+  write_png_rgb8(dir / (item.slug + "_reject.png"), ref.width, ref.height, reject_rgb);
+}
+
+// The report page: verdict, statistics, channels (failing first) and the previews (failing first).
+std::string report_html(const CompareResult& result, const ReportOptions& options,
+                        const std::vector<PreviewItem>& items) {
   std::string h;
   const char* verdict = result.passed ? "PASS" : "FAIL";
   h += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
@@ -338,7 +323,31 @@ void write_compare_report(const std::filesystem::path& dir, const Image& test, c
        "href=\"pvalue.exr\">"
        "pvalue.exr</a></p>\n";
   h += "<h2>Summary</h2>\n<pre>" + html_escape(format_compare_summary(result)) + "</pre>\n</body>\n</html>\n";
-  write_text_file(dir / "index.html", h);
+  return h;
+}
+
+}  // namespace
+
+void write_compare_report(const std::filesystem::path& dir, const Image& test, const Image& ref,
+                          const CompareResult& result, const ReportOptions& options) {
+  const std::vector<std::string> views = ocio_views();
+  if (std::find(views.begin(), views.end(), options.view) == views.end()) {
+    float probe[3] = {0.0f, 0.0f, 0.0f};
+    apply_display_transform(probe, 1, options.view);  // throws, naming the available views
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir))
+    throw Error(dir.string() + ": cannot create report directory" + (ec ? ": " + ec.message() : ""));
+
+  write_exr(dir / "test.exr", test);
+  write_exr(dir / "ref.exr", ref);
+  write_exr(dir / "error.exr", result.error);
+  write_exr(dir / "pvalue.exr", result.pvalue);
+
+  const std::vector<PreviewItem> items = make_items(result);
+  for (const PreviewItem& item : items) write_item_previews(dir, test, ref, result, options, item);
+  write_text_file(dir / "index.html", report_html(result, options, items));
 }
 
 }  // namespace sylva
