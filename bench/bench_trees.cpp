@@ -3,6 +3,7 @@
 
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/species.h"
+#include "scenes/species/treemaker_file.h"
 
 #include <benchmark/benchmark.h>
 
@@ -41,6 +42,28 @@ void BM_WeepingWillowGenerateOnly(benchmark::State& state) {
   }
 }
 
+// TREE-MAKER (Neighbors & Hodges §II): the paper's dogwood, growth and meshing, and growth alone.
+void BM_DogwoodTemplate(benchmark::State& state) {
+  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
+  size_t triangles = 0, leaves = 0;
+  for (auto _ : state) {
+    const sylva::TreeMesh mesh = sylva::make_tree_mesh(sylva::make_treemaker_tree(t, 1));
+    triangles = mesh.stems.triangles.size();
+    leaves = mesh.leaves.size();
+    benchmark::DoNotOptimize(mesh.stems.positions.data());
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["leaves"] = static_cast<double>(leaves);
+}
+
+void BM_DogwoodTemplateGenerateOnly(benchmark::State& state) {
+  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
+  for (auto _ : state) {
+    const sylva::TreeModel model = sylva::make_treemaker_tree(t, 1);
+    benchmark::DoNotOptimize(model.sections.positions.data());
+  }
+}
+
 }  // namespace
 
 BENCHMARK(BM_QuakingAspen)->Unit(benchmark::kMillisecond);
@@ -48,3 +71,5 @@ BENCHMARK(BM_BlackTupelo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WeepingWillow)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaliforniaBlackOak)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WeepingWillowGenerateOnly)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DogwoodTemplate)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DogwoodTemplateGenerateOnly)->Unit(benchmark::kMillisecond);

@@ -282,7 +282,8 @@ TEST_P(TreeMakerGolden, MatchesSummary) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Templates, TreeMakerGolden,
-                         ::testing::Values(GoldenCase{"dogwood.tmpl", 1}, GoldenCase{"dogwood.tmpl", 2}),
+                         ::testing::Values(GoldenCase{"dogwood.tmpl", 1}, GoldenCase{"dogwood.tmpl", 2},
+                                           GoldenCase{"red_maple_sapling.tmpl", 1}),
                          [](const ::testing::TestParamInfo<GoldenCase>& info) {
                            return std::filesystem::path(info.param.file).stem().string() + "_seed" +
                                   std::to_string(info.param.seed);
