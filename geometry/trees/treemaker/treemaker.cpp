@@ -85,10 +85,21 @@ class Grower {
 
   TreeModel grow() {
     for (size_t i = 0; i < t_.particles.size(); ++i) add_start_particle(t_.particles[i]);
-    for (int it = 1; it <= t_.iterations; ++it) {
+    // The growing particles in creation order; stopped ones drop out, so the cost follows the
+    // live particles, not every particle ever made times the iterations.
+    std::vector<size_t> growing, next;
+    for (size_t i = 0; i < particles_.size(); ++i)
+      if (particles_[i].alive) growing.push_back(i);
+    for (int it = 1; it <= t_.iterations && !growing.empty(); ++it) {
       // Branches added during an iteration start moving in the next one.
-      const size_t count = particles_.size();
-      for (size_t i = 0; i < count; ++i) step(i, it);
+      const size_t first_new = particles_.size();
+      next.clear();
+      for (const size_t i : growing) {
+        step(i, it);
+        if (particles_[i].alive) next.push_back(i);
+      }
+      for (size_t i = first_new; i < particles_.size(); ++i) next.push_back(i);
+      std::swap(growing, next);
     }
     TreeModel model;
     emit_stems(model);
@@ -144,7 +155,6 @@ class Grower {
   // One iteration of one particle (§II): store the position, add the growth vector, shorten it by
   // the aging factor (acc=), bend it toward the ground by gravity, then branch.
   void step(size_t i, int iteration) {
-    if (!particles_[i].alive) return;
     {
       Particle& p = particles_[i];
       if (++sections_ > kMaxSections)
