@@ -68,7 +68,7 @@ struct Particle {
   Vec3 pos{0.0f};
   Vec3 dir{0.0f, 0.0f, 1.0f};   // unit growth direction
   Vec3 side{1.0f, 0.0f, 0.0f};  // horizontal reference for a vertical direction
-  float magnitude = 0.0f;
+  TreeMakerRange magnitude;     // the growth vector's length is drawn from it every iteration
   float acc = 0.0f;
   float growth = 0.0f;
   float age = 0.0f;
@@ -124,7 +124,7 @@ class Grower {
   void add_start_particle(const TreeMakerParticle& tp) {
     Particle& p = add_particle(Particle{});
     p.pos = tp.pos;
-    p.magnitude = draw(p.rng, tp.mag);
+    p.magnitude = tp.mag;
     const Vec3 d0 = normalize_or(tp.dir, kUp);
     const Frame f = Frame::from_z(d0);
     const float dev = radians(p.rng.uniform(0.0f, tp.max_dev_deg));
@@ -136,7 +136,7 @@ class Grower {
     p.growth = tp.growth;
     p.age = tp.age;
     p.start_dir = p.dir;
-    p.alive = p.magnitude > 0.0f;
+    p.alive = p.magnitude.hi > 0.0f;
   }
 
   // The horizontal side vector and the upward perpendicular of a direction: `dir` angles are
@@ -162,10 +162,13 @@ class Grower {
                     " TREE-MAKER limb positions (lower the iterations or the branch numbers)");
       p.nodes.push_back(p.pos);
       p.node_born.push_back(iteration);
-      p.pos += p.dir * p.magnitude;
-      p.magnitude += p.acc;
-      if (!(p.magnitude > 0.0f)) {
-        p.magnitude = 0.0f;
+      // §V: the magnitude "varying between 15 and 25"; acc= "will reduce each limit of the range
+      // by 0.8 at each iteration".
+      p.pos += p.dir * draw(p.rng, p.magnitude);
+      p.magnitude.lo = std::max(0.0f, p.magnitude.lo + p.acc);
+      p.magnitude.hi += p.acc;
+      if (!(p.magnitude.hi > 0.0f)) {
+        p.magnitude = {0.0f, 0.0f};
         p.alive = false;
       }
       // §II and §V: gravity × the cosine of the angle between the growth vector and the
@@ -198,8 +201,8 @@ class Grower {
       side_and_up(parent.dir, parent.side, side, up);
       const Vec3 around = std::cos(dir) * side + std::sin(dir) * up;
       const Vec3 child_dir = normalize_or(std::cos(angle) * parent.dir + std::sin(angle) * around, parent.dir);
-      const float magnitude = parent.magnitude * factor;
-      if (!(magnitude > 0.0f)) continue;
+      const TreeMakerRange magnitude{parent.magnitude.lo * factor, parent.magnitude.hi * factor};
+      if (!(magnitude.hi > 0.0f)) continue;
       // The reduction applies to the growth vector, the lateral growth and their aging (§V:
       // "reduce the width and length of these limbs").
       Particle child;

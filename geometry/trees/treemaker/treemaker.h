@@ -52,10 +52,10 @@ struct TreeMakerBranchRule {
 // particle { pos= mag= dir= acc= growth= age= color= brightness= }: a starting particle.
 struct TreeMakerParticle {
   Vec3 pos{0.0f};              // template units
-  TreeMakerRange mag;          // length of the growth vector, template units per iteration
+  TreeMakerRange mag;          // growth vector length, drawn every iteration (template units)
   Vec3 dir{0.0f, 0.0f, 1.0f};  // initial growth direction (need not be unit)
   float max_dev_deg = 0.0f;    // the ":maxdev_angle" of dir=
-  float acc = 0.0f;            // added to the growth vector's magnitude each iteration
+  float acc = 0.0f;            // added to both limits of `mag` after every iteration
   float growth = 0.0f;         // width added to each limb position per iteration
   float age = 0.0f;            // added to a limb position's growth per iteration
   int color = 0;               // index into TreeMakerTemplate::colors

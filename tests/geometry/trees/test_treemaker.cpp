@@ -86,6 +86,7 @@ TEST(TreeMaker, TripletsAreChosenByProbability) {
   TreeMakerTemplate t = basic_template();
   t.iterations = 2;
   t.particles[0].acc = 0.0f;
+  t.particles[0].mag = {20.0f, 20.0f};
   t.branches[0].number = {3.0f, 3.0f};
   t.branches[0].choices = {{0.3f, {45.0f, 45.0f}, {0.0f, 0.0f}, {0.5f, 0.5f}},
                            {0.7f, {45.0f, 45.0f}, {180.0f, 180.0f}, {1.0f, 1.0f}}};
