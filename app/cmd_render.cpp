@@ -1,10 +1,10 @@
 // `sylva render`: scene file (or the built-in default) → multi-channel EXR + PNG preview.
 
+#include "app/commands.h"
 #include "core/color.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "render/renderer.h"
-#include "app/commands.h"
 #include "scenes/scene_file.h"
 
 #include <fmt/core.h>
@@ -93,7 +93,7 @@ int run_render(const RenderOptions& opt) {
   if (opt.seed >= 0) settings.seed = static_cast<uint64_t>(opt.seed);
   settings.threads = opt.threads;
   if (opt.max_depth > 0) settings.integrator.max_depth = opt.max_depth;
-  const std::vector<std::string> band_names = opt.bands.empty() ? file.render.bands : split_list(opt.bands);
+  const std::vector<std::string> band_names = opt.bands.empty() ? file.bands : split_list(opt.bands);
   if (!opt.bands.empty()) settings.bands = resolve_bands(file, band_names);
   settings.progress = !opt.quiet;
 

@@ -24,14 +24,12 @@ const SceneFile& bench_scene(BenchScene which) {
 }
 
 RenderSettings bench_settings(const SceneFile& file, int threads) {
-  RenderSettings s;
+  RenderSettings s = render_settings(file);
   s.width = 320;
   s.height = 180;
   s.spp = 1;
   s.seed = 1;
   s.threads = threads;
-  s.bands = resolve_bands(file, file.render.bands);
-  s.integrator.max_depth = file.render.max_depth;
   s.progress = false;
   return s;
 }

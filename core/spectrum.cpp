@@ -108,4 +108,19 @@ const DenseSpectrum& cie_z() { return standard().z; }
 const DenseSpectrum& astm_g173_direct() { return standard().direct; }
 const DenseSpectrum& astm_g173_global() { return standard().global; }
 
+DenseSpectrum astm_g173_diffuse() {
+  const float cos_incidence = std::cos(radians(48.19f - 37.0f));
+  DenseSpectrum d = astm_g173_global();
+  const DenseSpectrum& b = astm_g173_direct();
+  for (int i = 0; i < kLambdaSamples; ++i) d[i] = std::max(0.0f, d[i] - cos_incidence * b[i]);
+  return d;
+}
+
+std::optional<DenseSpectrum> named_spectrum(std::string_view name) {
+  if (name == "astm-g173-direct") return astm_g173_direct();
+  if (name == "astm-g173-diffuse") return astm_g173_diffuse();
+  if (name == "astm-g173-global") return astm_g173_global();
+  return std::nullopt;
+}
+
 }  // namespace sylva

@@ -8,7 +8,9 @@
 #include "core/math.h"
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace sylva {
@@ -85,5 +87,11 @@ const DenseSpectrum& cie_z();
 const DenseSpectrum& astm_g173_direct();
 // ASTM G173-03 global on the 37° sun-facing tilt, W·m⁻²·nm⁻¹.
 const DenseSpectrum& astm_g173_global();
+// The default diffuse-sky spectrum: ASTM G173 global (37° tilt) minus the direct beam projected on
+// that tilt (incidence 11.2° at the standard's solar zenith 48.2°), clamped at 0.
+DenseSpectrum astm_g173_diffuse();
+// A built-in spectrum by the name parameter files use ("astm-g173-direct", "astm-g173-diffuse",
+// "astm-g173-global"); nullopt for any other name.
+std::optional<DenseSpectrum> named_spectrum(std::string_view name);
 
 }  // namespace sylva

@@ -1,6 +1,6 @@
 #include "render/integrator.h"
 
-#include "render/materials/materials.h"
+#include "render/materials/material.h"
 
 #include <bit>
 

@@ -4,9 +4,9 @@
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
 #include "geometry/mesh.h"
-#include "render/sensors/camera.h"
 #include "render/lights/lights.h"
-#include "render/materials/materials.h"
+#include "render/materials/material.h"
+#include "render/sensors/camera.h"
 
 #include <string>
 #include <vector>

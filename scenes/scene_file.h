@@ -16,15 +16,6 @@
 
 namespace sylva {
 
-struct RenderSection {
-  int width = 640;
-  int height = 360;
-  int spp = 64;
-  uint64_t seed = 1;
-  int max_depth = 16;
-  std::vector<std::string> bands{"rgb", "nir"};
-};
-
 struct OutputSection {
   std::filesystem::path exr;  // empty: chosen on the command line
   std::filesystem::path png;
@@ -36,7 +27,10 @@ struct OutputSection {
 struct SceneFile {
   std::filesystem::path path;  // empty for the built-in default scene
   Scene scene;
-  RenderSection render;
+  // [render]: resolution, spp, seed, depth (RenderSettings' defaults are the only defaults; the
+  // bands are resolved by render_settings()), and the band names.
+  RenderSettings render;
+  std::vector<std::string> bands{"rgb", "nir"};
   OutputSection output;
   std::vector<Band> custom_bands;     // [[bands]] tables: user SRFs, resolved by name before built-ins
   std::string content_hash;           // of the file text (and the species files it uses), hex
@@ -54,7 +48,8 @@ SceneFile default_scene();
 // Resolves band names against the file's custom bands, then the built-in ones.
 std::vector<Band> resolve_bands(const SceneFile& file, const std::vector<std::string>& names);
 
-// The render settings the file asks for (resolution, spp, seed, depth, its bands).
+// The render settings the file asks for (resolution, spp, seed, depth, its bands): the one mapping
+// from scene file to settings; the command line overrides fields of the result.
 RenderSettings render_settings(const SceneFile& file);
 
 // Records what produced an image in its header: sylva:version, spp, seed, scene, scene_hash,

@@ -8,7 +8,55 @@ namespace sylva {
 
 namespace {
 int line_of(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
+
+ParamValue to_value(const toml::node& n, const std::string& file, const std::string& where,
+                    const FileResolver& resolver);
+
+std::shared_ptr<Params> to_table(const toml::table& t, const std::string& file, const std::string& where,
+                                 const FileResolver& resolver) {
+  auto params = std::make_shared<Params>(file, line_of(t), where, resolver);
+  for (const auto& [key, node] : t) {
+    // A nested table is named [key] in messages, a table in an array [[key]].
+    const std::string k(key.str());
+    const std::string child = node.is_array() ? "[[" + k + "]]" : "[" + k + "]";
+    params->add(k, to_value(node, file, child, resolver));
+  }
+  return params;
+}
+
+ParamValue to_value(const toml::node& n, const std::string& file, const std::string& where,
+                    const FileResolver& resolver) {
+  ParamValue v;
+  v.line = line_of(n);
+  if (const auto* b = n.as_boolean()) {
+    v.kind = ParamValue::Kind::Bool;
+    v.boolean = b->get();
+  } else if (const auto* i = n.as_integer()) {
+    v.kind = ParamValue::Kind::Integer;
+    v.integer = i->get();
+  } else if (const auto* f = n.as_floating_point()) {
+    v.kind = ParamValue::Kind::Real;
+    v.real = f->get();
+  } else if (const auto* s = n.as_string()) {
+    v.kind = ParamValue::Kind::String;
+    v.string = s->get();
+  } else if (const auto* a = n.as_array()) {
+    v.kind = ParamValue::Kind::Array;
+    for (const toml::node& e : *a) v.array.push_back(to_value(e, file, where, resolver));
+  } else if (const auto* t = n.as_table()) {
+    v.kind = ParamValue::Kind::Table;
+    v.table = to_table(*t, file, where, resolver);
+  } else {
+    throw ParseError(file, v.line, "dates and times are not Sylva parameter values");
+  }
+  return v;
+}
+
 }  // namespace
+
+Params TomlReader::to_params(const toml::table& t, std::string where, const FileResolver& resolver) const {
+  return *to_table(t, file_, where, resolver);
+}
 
 toml::table TomlReader::parse(std::string_view text) const {
   try {

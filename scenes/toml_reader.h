@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "core/math.h"
+#include "core/params.h"
 
 #include <toml++/toml.h>
 
@@ -25,6 +26,10 @@ class TomlReader {
   [[noreturn]] void fail(const toml::node& at, const std::string& what) const;
   [[noreturn]] void fail_line(int line, const std::string& what) const;
   const std::string& file() const { return file_; }
+
+  // The table as format-neutral Params (nested tables and arrays included), for types that read
+  // their own parameters; `where` names it in messages, `resolver` finds the files it names.
+  Params to_params(const toml::table& t, std::string where, const FileResolver& resolver = {}) const;
 
   // Rejects keys not in `allowed` (catches typos): "unknown key 'x' in <where> (expected one of ...)".
   void check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed, std::string_view where) const;

@@ -60,6 +60,15 @@ struct TreeLeaves {
   size_t size() const { return positions.size(); }
 };
 
+// How a tree is evaluated, for every model: wind (Weber & Penn §4.7; speed and gust in the paper's
+// units) at time time_s, and the §4.5 quality factor (leaf count and size, radial mesh resolution).
+struct TreeOptions {
+  float time_s = 0;
+  float wind_speed = 0;
+  float wind_gust = 0;
+  float quality = 1;
+};
+
 struct TreeModel {
   TreeStems stems;
   StemSections sections;

@@ -38,14 +38,6 @@ Vec3 sun_direction(float azimuth_deg, float elevation_deg) {
   return glm::normalize(Vec3(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)));
 }
 
-DenseSpectrum astm_g173_diffuse() {
-  const float cos_incidence = std::cos(radians(48.19f - 37.0f));
-  DenseSpectrum d = astm_g173_global();
-  const DenseSpectrum& b = astm_g173_direct();
-  for (int i = 0; i < kLambdaSamples; ++i) d[i] = std::max(0.0f, d[i] - cos_incidence * b[i]);
-  return d;
-}
-
 float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir) {
   if (dir.z <= 0) return 0.0f;
   const CieSkyCoefficients& k = cie_sky_table().at(static_cast<size_t>(type - 1));

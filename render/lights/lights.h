@@ -13,10 +13,6 @@ namespace sylva {
 
 Vec3 sun_direction(float azimuth_deg, float elevation_deg);
 
-// The default diffuse-sky spectrum: ASTM G173 global (37° tilt) minus the direct beam projected on
-// that tilt (incidence 11.2° at the standard's solar zenith 48.2°), clamped at 0.
-DenseSpectrum astm_g173_diffuse();
-
 struct SunDesc {
   bool enabled = true;
   float azimuth_deg = 135.0f;

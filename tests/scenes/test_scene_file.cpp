@@ -32,9 +32,9 @@ TEST(SceneFile, DefaultSceneParses) {
   const SceneFile f = default_scene();
   EXPECT_GE(f.scene.prototypes.size(), 5u);
   EXPECT_GE(f.scene.instances.size(), 8u);
-  EXPECT_EQ(f.render.bands, (std::vector<std::string>{"rgb", "nir"}));
+  EXPECT_EQ(f.bands, (std::vector<std::string>{"rgb", "nir"}));
   EXPECT_EQ(f.content_hash.size(), 16u);
-  const auto bands = resolve_bands(f, f.render.bands);
+  const auto bands = resolve_bands(f, f.bands);
   EXPECT_EQ(bands.size(), 2u);
 }
 
@@ -163,7 +163,7 @@ name = "swir_cam"
 response = { lambda_nm = [1400, 1500, 1600, 1700], value = [0, 1, 1, 0] }
 )",
                                   "bands.toml", ".");
-  const auto bands = resolve_bands(f, f.render.bands);
+  const auto bands = resolve_bands(f, f.bands);
   ASSERT_EQ(bands.size(), 2u);
   EXPECT_EQ(bands[1].channels[0], "swir_cam.Y");
   EXPECT_NEAR(bands[1].weights[0].integral(), 1.0, 1e-3);

@@ -624,4 +624,13 @@ TreeModel make_weber_penn_tree(const WeberPennParams& params, uint64_t seed) {
   return model;
 }
 
+TreeModel make_tree(const WeberPennParams& params, uint64_t seed, const TreeOptions& options) {
+  WeberPennParams p = params;
+  p.quality = options.quality;
+  p.wind.speed = options.wind_speed;
+  p.wind.gust = options.wind_gust;
+  p.wind.time_s = options.time_s;
+  return make_weber_penn_tree(p, seed);
+}
+
 }  // namespace sylva

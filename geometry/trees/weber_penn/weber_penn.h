@@ -3,6 +3,7 @@
 // Arbaro extensions that have a clear meaning. Sylva's readings of the paper's ambiguous places
 // are docs/design.md §5.1; the closed-form formulas live in geometry/weber_penn_shape.h.
 
+#include "core/params.h"
 #include "geometry/leaf_shape.h"
 #include "geometry/trees/tree_model.h"
 #include "geometry/trees/weber_penn/weber_penn_shape.h"
@@ -38,6 +39,13 @@ struct WeberPennWind {
 };
 
 struct WeberPennParams {
+  // The species-file model name (`model = "weber-penn"`); Arbaro XML files are read as this model.
+  static constexpr std::string_view kType = "weber-penn";
+  // Reads the paper's parameter names (weber_penn_params.cpp: names, ranges; defaults are the
+  // member initialisers below, Arbaro's). Throws ParseError; parameters read but ignored (Arbaro's
+  // Smooth, non-flat leaf shapes) add "file:line: warning: ..." to `warnings`.
+  static WeberPennParams create(const Params& params, std::vector<std::string>& warnings);
+
   int shape = 0;                           // Shape 0..8 (ShapeRatio)
   float base_size = 0.25f;                 // BaseSize
   float scale = 10.0f, scale_v = 0.0f;     // Scale, ScaleV (metres)
@@ -83,5 +91,10 @@ struct WeberPennParams {
 // Generates one tree. Pure: the same params and seed give a bit-identical model; with wind the
 // structure (stem and leaf counts, lengths) is that of the windless tree, only the curvature moves.
 TreeModel make_weber_penn_tree(const WeberPennParams& params, uint64_t seed);
+// The same with the evaluation options (wind at a time, quality) applied: the tree-model interface.
+TreeModel make_tree(const WeberPennParams& params, uint64_t seed, const TreeOptions& options);
+
+// Every parameter name a species file may use (with level prefixes 0..3), for documentation.
+std::vector<std::string> weber_penn_parameter_names();
 
 }  // namespace sylva

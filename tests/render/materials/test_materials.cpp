@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/rng.h"
-#include "render/materials/materials.h"
+#include "render/materials/material.h"
 #include "tests/support/chi2_directions.h"
 
 #include <gtest/gtest.h>

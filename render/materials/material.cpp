@@ -1,62 +1,38 @@
-#include "render/materials/materials.h"
+#include "render/materials/material.h"
+
+#include "render/materials/material_checks.h"
 
 #include "core/error.h"
+#include "core/registry.h"
 #include "core/sampling.h"
 
 #include <fmt/core.h>
 
 namespace sylva {
 
-namespace {
-
-void check_range(const std::string& name, const char* what, const DenseSpectrum& s) {
+void check_unit_range(const std::string& name, const char* what, const DenseSpectrum& s) {
   if (s.min_value() < 0.0f || s.max_value() > 1.0f)
     throw Error(fmt::format("material '{}': {} must lie in [0, 1] (found {:.4g} .. {:.4g})", name, what, s.min_value(),
                             s.max_value()));
 }
 
-void check_sum(const std::string& name, const DenseSpectrum& r, const DenseSpectrum& t, const char* face) {
+void check_energy(const std::string& name, const DenseSpectrum& r, const DenseSpectrum& t, const char* face) {
   for (int i = 0; i < kLambdaSamples; ++i)
     if (r[i] + t[i] > 1.0f + 1e-4f)
       throw Error(fmt::format("material '{}': reflectance + transmittance = {:.4f} > 1 at {} nm ({} face)", name,
                               r[i] + t[i], DenseSpectrum::grid_lambda(i), face));
 }
 
-}  // namespace
-
-Material make_diffuse(const std::string& name, const DenseSpectrum& reflectance) {
-  check_range(name, "reflectance", reflectance);
-  return DiffuseMaterial{reflectance};
-}
-
-Material make_leaf(const std::string& name, const DenseSpectrum& reflectance, const DenseSpectrum& transmittance) {
-  return make_leaf(name, reflectance, transmittance, reflectance, transmittance);
-}
-
-Material make_leaf(const std::string& name, const DenseSpectrum& rf, const DenseSpectrum& tf, const DenseSpectrum& rb,
-                   const DenseSpectrum& tb) {
-  check_range(name, "reflectance", rf);
-  check_range(name, "transmittance", tf);
-  check_range(name, "back reflectance", rb);
-  check_range(name, "back transmittance", tb);
-  check_sum(name, rf, tf, "front");
-  check_sum(name, rb, tb, "back");
-  return LeafMaterial{rf, tf, rb, tb};
+Material create_material(const std::string& name, const Params& params) {
+  const std::string type = params.string("type", "diffuse");
+  std::optional<Material> m = create_registered<Material>(type, name, params);
+  if (!m) params.fail(fmt::format("material type must be one of {}, not \"{}\"", registered_names<Material>(), type));
+  params.check_unused();
+  return std::move(*m);
 }
 
 Bsdf::Bsdf(const Material& material, const SampledWavelengths& wl, bool front) {
-  std::visit(
-      [&](const auto& m) {
-        using T = std::decay_t<decltype(m)>;
-        if constexpr (std::is_same_v<T, DiffuseMaterial>) {
-          reflect_ = m.reflectance.eval(wl);
-        } else {
-          // Light arriving at the back face sees the back spectra; transmission is reciprocal.
-          reflect_ = front ? m.reflectance_front.eval(wl) : m.reflectance_back.eval(wl);
-          transmit_ = front ? m.transmittance_front.eval(wl) : m.transmittance_back.eval(wl);
-        }
-      },
-      material);
+  std::visit([&](const auto& m) { m.lobes(wl, front, reflect_, transmit_); }, material);
   const float r = average(reflect_), t = average(transmit_);
   p_reflect_ = (r + t) > 0 ? r / (r + t) : 1.0f;
 }

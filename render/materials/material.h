@@ -1,36 +1,31 @@
 #pragma once
-// Materials (a closed set: std::variant, so a missing case is a compile error).
-//  - Diffuse: Lambertian reflectance ρ(λ).
-//  - Leaf: bi-Lambertian — reflects ρ(λ) and transmits τ(λ) diffusely, optionally with different
-//    spectra on the back (abaxial) face; ρ + τ ≤ 1 is checked when the material is made.
+// Materials: a closed set (std::variant, so a missing case is a compile error) that is open to
+// extension. Each material type lives in its own file pair and provides
+//   static constexpr std::string_view kType;                 // the scene file's `type = "..."`
+//   static T create(const std::string& name, const Params&); // reads its own parameters
+//   void lobes(wl, front, reflect, transmit) const;           // its diffuse lobes at a hit
+// Adding a material = its files + one entry in the `Material` variant below.
+//
 // Directions are in the local shading frame: z = shading normal on the side the light arrives from
 // or leaves to; `wo` points away from the surface towards the previous vertex.
 
 #include "core/math.h"
+#include "core/params.h"
 #include "core/spectrum.h"
+#include "render/materials/diffuse.h"
+#include "render/materials/leaf.h"
 
 #include <string>
 #include <variant>
 
 namespace sylva {
 
-struct DiffuseMaterial {
-  DenseSpectrum reflectance;
-};
-
-struct LeafMaterial {
-  DenseSpectrum reflectance_front, transmittance_front;
-  DenseSpectrum reflectance_back, transmittance_back;
-};
-
+// The registered materials.
 using Material = std::variant<DiffuseMaterial, LeafMaterial>;
 
-// Throws sylva::Error (naming `name`) if any value is outside [0,1] or ρ + τ > 1 anywhere.
-Material make_diffuse(const std::string& name, const DenseSpectrum& reflectance);
-Material make_leaf(const std::string& name, const DenseSpectrum& reflectance, const DenseSpectrum& transmittance);
-Material make_leaf(const std::string& name, const DenseSpectrum& reflectance_front,
-                   const DenseSpectrum& transmittance_front, const DenseSpectrum& reflectance_back,
-                   const DenseSpectrum& transmittance_back);
+// The material whose kType is `params`' "type" (default "diffuse"), created from `params`.
+// Throws ParseError for an unknown type or a bad parameter.
+Material create_material(const std::string& name, const Params& params);
 
 // BSDF at a hit, evaluated for the carried wavelengths. `front` is whether `wo` is on the side of
 // the geometric normal (the leaf's upper face).
