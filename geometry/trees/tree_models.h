@@ -8,6 +8,7 @@
 // own, one line in scenes/species.cpp's format table).
 
 #include "geometry/trees/tree_model.h"
+#include "geometry/trees/treemaker/treemaker.h"
 #include "geometry/trees/weber_penn/weber_penn.h"
 
 #include <cstdint>
@@ -16,7 +17,7 @@
 namespace sylva {
 
 // The registered tree models.
-using TreeModelParams = std::variant<WeberPennParams>;
+using TreeModelParams = std::variant<WeberPennParams, TreeMakerTemplate>;
 
 // Generates the tree structure for a seed. Pure: the same inputs give a bit-identical model.
 inline TreeModel make_tree(const TreeModelParams& params, uint64_t seed, const TreeOptions& options = {}) {

@@ -448,7 +448,7 @@ TreeMakerTemplate parse_treemaker_template(const std::string& text, const std::f
 
 TreeMakerTemplate load_treemaker_template(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error("cannot read " + file.string());
+  if (!in) throw ParseError(file, 0, "cannot open template file");
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_treemaker_template(ss.str(), file);

@@ -33,7 +33,7 @@ namespace sylva {
 
 TreeMakerTemplate parse_treemaker_template(const std::string& text, const std::filesystem::path& file);
 
-// Reads and parses a template file. Throws sylva::Error when it cannot be read, ParseError otherwise.
+// Reads and parses a template file. Throws ParseError (line 0 when the file cannot be opened).
 TreeMakerTemplate load_treemaker_template(const std::filesystem::path& file);
 
 }  // namespace sylva

@@ -433,4 +433,17 @@ TreeMakerMaterials treemaker_materials(const TreeMakerTemplate& tmpl) {
 
 TreeModel make_treemaker_tree(const TreeMakerTemplate& tmpl, uint64_t seed) { return Grower(tmpl, seed).grow(); }
 
+TreeModel make_tree(const TreeMakerTemplate& tmpl, uint64_t seed, const TreeOptions&) {
+  return make_treemaker_tree(tmpl, seed);
+}
+
+TreeMakerTemplate TreeMakerTemplate::create(const Params& params, std::vector<std::string>&) {
+  TreeMakerTemplate t;
+  t.source = params.file_path("template");
+  t.unit_m = params.real("unit_m", t.unit_m, 1e-6, 1e3);
+  t.line_width = params.real("line_width", t.line_width, 0.0, 1e6);
+  params.check_unused();
+  return t;
+}
+
 }  // namespace sylva

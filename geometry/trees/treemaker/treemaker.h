@@ -8,10 +8,13 @@
 // metres. Angles are degrees as in the template.
 
 #include "core/math.h"
+#include "core/params.h"
 #include "geometry/trees/tree_model.h"
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace sylva {
@@ -102,6 +105,15 @@ struct TreeMakerTemplate {
   // Sylva settings, not part of the paper's format.
   float unit_m = 0.03f;      // metres per template unit
   float line_width = 0.25f;  // width of the ribbon an ln= element becomes, template units
+  // The .tmpl file a TOML species names (`template = ...`); scenes/species.cpp reads it.
+  std::filesystem::path source;
+
+  // Tree-model registry entry (geometry/trees/tree_models.h). A `.tmpl` file is read whole by
+  // scenes/species/treemaker_file.h; a TOML species `model = "treemaker"` names one and may set
+  // the Sylva settings: template = "dogwood.tmpl", unit_m = 0.03, line_width = 0.25. `create`
+  // reads those keys (the template itself is parsed in scenes/, which owns the file format).
+  static constexpr std::string_view kType = "treemaker";
+  static TreeMakerTemplate create(const Params& params, std::vector<std::string>& warnings);
 
   // The rule for branches of `level` (≥ 1), or nullptr when no rule is at or below it.
   const TreeMakerBranchRule* rule_for_level(int level) const;
@@ -127,5 +139,9 @@ TreeMakerMaterials treemaker_materials(const TreeMakerTemplate& tmpl);
 // Throws sylva::Error "tree too large: ..." when the growth exceeds the particle, section or leaf
 // budget.
 TreeModel make_treemaker_tree(const TreeMakerTemplate& tmpl, uint64_t seed);
+
+// The registry's entry point: TREE-MAKER has no wind or level of detail, so `options` (Weber &
+// Penn's sway and quality) do not change the model; the mesher still uses options.quality.
+TreeModel make_tree(const TreeMakerTemplate& tmpl, uint64_t seed, const TreeOptions& options);
 
 }  // namespace sylva
