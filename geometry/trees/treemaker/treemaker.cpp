@@ -61,6 +61,18 @@ struct Placement {
   Vec3 vector(const Vec3& q) const { return f.to_world(q) * unit_m; }
 };
 
+// Templates from the parser are valid; a template built in code gets a clear error instead of an
+// out-of-range colour.
+void validate(const TreeMakerTemplate& t) {
+  const auto valid_color = [&](int c) { return c >= 0 && static_cast<size_t>(c) < t.colors.size(); };
+  for (const TreeMakerParticle& p : t.particles)
+    if (!valid_color(p.color)) throw Error("TREE-MAKER template: a particle's color index is out of range");
+  for (const TreeMakerLeaf& l : t.leaves)
+    for (const TreeMakerElement& e : l.elements)
+      if (!valid_color(e.color) || (e.points.size() != 2 && e.points.size() != 3))
+        throw Error("TREE-MAKER template: a leaf element needs a valid color and 2 or 3 points");
+}
+
 struct Particle {
   int level = 0;
   int parent = -1;
@@ -84,6 +96,7 @@ class Grower {
   Grower(const TreeMakerTemplate& t, uint64_t seed) : t_(t), seed_(seed) {}
 
   TreeModel grow() {
+    validate(t_);
     for (size_t i = 0; i < t_.particles.size(); ++i) add_start_particle(t_.particles[i]);
     // The growing particles in creation order; stopped ones drop out, so the cost follows the
     // live particles, not every particle ever made times the iterations.
@@ -406,6 +419,7 @@ const TreeMakerBranchRule* TreeMakerTemplate::rule_for_level(int level) const {
 }
 
 TreeMakerMaterials treemaker_materials(const TreeMakerTemplate& tmpl) {
+  validate(tmpl);
   TreeMakerMaterials out;
   std::vector<int> slot_of(tmpl.colors.size(), -1);
   std::vector<float> weight;

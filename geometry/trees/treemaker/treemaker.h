@@ -137,7 +137,7 @@ TreeMakerMaterials treemaker_materials(const TreeMakerTemplate& tmpl);
 // half the stored width; every tri= element becomes one or two RightTriangle leaf quads and every
 // ln= element a narrow Rectangle quad, on the particle's stem, in the material slot of its colour.
 // Throws sylva::Error "tree too large: ..." when the growth exceeds the particle, section or leaf
-// budget.
+// budget, and for a template whose colour indices or element point counts are invalid.
 TreeModel make_treemaker_tree(const TreeMakerTemplate& tmpl, uint64_t seed);
 
 // The registry's entry point: TREE-MAKER has no wind or level of detail, so `options` (Weber &

@@ -291,6 +291,17 @@ TEST(TreeMaker, RunawayBranchingIsAClearError) {
   }
 }
 
+TEST(TreeMaker, InvalidTemplatesBuiltInCodeAreClearErrors) {
+  TreeMakerTemplate t = basic_template();
+  t.leaves[0].elements[0].color = 7;
+  EXPECT_THROW(make_treemaker_tree(t, 1), Error);
+  EXPECT_THROW(treemaker_materials(t), Error);
+  t = basic_template();
+  t.leaves[0].elements[0].points.pop_back();
+  t.leaves[0].elements[0].points.pop_back();
+  EXPECT_THROW(make_treemaker_tree(t, 1), Error);
+}
+
 TEST(TreeMaker, ShrinkingGrowthStopsAParticle) {
   TreeMakerTemplate t = basic_template();
   t.iterations = 30;
