@@ -2,10 +2,10 @@
 // (OBJ) and prints the camera and lights as options of Embree's `pathtracer` tutorial, so the same
 // view can be rendered there (bench/compare_embree.sh).
 
+#include "app/commands.h"
 #include "core/error.h"
 #include "geometry/mesh_io.h"
 #include "render/lights/lights.h"
-#include "app/commands.h"
 #include "scenes/scene_file.h"
 
 #include <fmt/core.h>
@@ -97,6 +97,8 @@ int run_export(const ExportOptions& opt) {
   // white radiance giving an irradiance of 0.2 at normal incidence and the sky a white ambient
   // light of 0.2: enough for a viewable image, not a photometric match.
   const CameraDesc& cam = scene.camera;
+  const auto* lens = std::get_if<PerspectiveProjection>(&cam.projection);
+  if (!lens) throw Error("export: Embree's pathtracer takes a perspective camera only");
   const Vec3 to_sun = sun_direction(scene.sun.azimuth_deg, scene.sun.elevation_deg);
   const float sun_solid_angle_sr = kTwoPi * (1.0f - std::cos(radians(scene.sun.angular_radius_deg)));
   const float sun_radiance = 0.2f / sun_solid_angle_sr;
@@ -104,9 +106,9 @@ int run_export(const ExportOptions& opt) {
       "--size {} {} --vp {} {} {} --vi {} {} {} --vu {} {} {} --fov {} --distantlight {} {} {} {} {} {} {} "
       "--ambientlight 0.2 0.2 0.2\n",
       width, height, cam.position.x, cam.position.y, cam.position.z, cam.target.x, cam.target.y, cam.target.z, cam.up.x,
-      cam.up.y, cam.up.z, cam.vfov_deg, -to_sun.x, -to_sun.y, -to_sun.z, sun_radiance, sun_radiance, sun_radiance,
+      cam.up.y, cam.up.z, lens->vfov_deg, -to_sun.x, -to_sun.y, -to_sun.z, sun_radiance, sun_radiance, sun_radiance,
       2.0f * scene.sun.angular_radius_deg);
-  if (cam.aperture_radius_m > 0.0f && !opt.quiet)
+  if (lens->aperture_radius_m > 0.0f && !opt.quiet)
     fmt::print(stderr, "export: the scene's thin-lens camera is exported as a pinhole\n");
   if (!opt.quiet)
     fmt::print(stderr, "export: {} instances → {} triangles, {} vertices in {} (leaf outlines not kept: full quads)\n",

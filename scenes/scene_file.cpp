@@ -3,6 +3,7 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/prospect.h"
+#include "core/registry.h"
 #include "core/rgb_spectrum.h"
 #include "core/rng.h"
 #include "geometry/mesh_io.h"
@@ -100,16 +101,20 @@ class SceneParser {
     }
   }
 
+  // [camera]: the view frame, and a projection from the registry (render/sensors/camera.h) that
+  // reads its own parameters.
   void parse_camera(const Params& root) {
     const Params* t = root.table("camera");
-    t->check_keys({"position", "target", "up", "vfov", "aperture_radius", "focus_distance"});
     CameraDesc& c = out_.scene.camera;
     c.position = t->vec3("position", c.position);
     c.target = t->vec3("target", c.target);
     c.up = t->vec3("up", c.up);
-    c.vfov_deg = t->real("vfov", c.vfov_deg, 0.01, 179.0);
-    c.aperture_radius_m = t->real("aperture_radius", c.aperture_radius_m, 0.0, 100.0);
-    c.focus_distance_m = t->real("focus_distance", c.focus_distance_m, 0.0, 1e6);
+    const std::string type = t->string("type", "perspective");
+    std::optional<Projection> projection = create_registered<Projection>(type, *t);
+    if (!projection)
+      t->fail("type", fmt::format("camera type must be {}, not \"{}\"", registered_names<Projection>(), type));
+    c.projection = std::move(*projection);
+    t->check_unused();
     if (glm::length(c.target - c.position) <= 0) t->fail("camera position and target must differ");
     if (glm::length(glm::cross(glm::normalize(c.target - c.position), c.up)) < 1e-4f)
       t->fail("camera up must not be parallel to the view direction");
@@ -127,27 +132,26 @@ class SceneParser {
     s.irradiance *= t->real("scale", 1.0, 0.0, 1e6);
   }
 
+  // [sky]: model = "none" or a registered sky model (render/lights/lights.h), which reads its own
+  // parameters; spectrum, scale and ground_albedo apply to every model.
   void parse_sky(const Params& root) {
     const Params* t = root.table("sky");
-    t->check_keys({"model", "type", "spectrum", "scale", "ground_albedo"});
     SkyDesc& s = out_.scene.sky;
     const std::string model = t->string("model", "cie");
-    if (model == "cie") {
-      s.model = SkyModel::CieStandard;
-      s.cie_type = static_cast<int>(t->integer("type", s.cie_type, 1, 15));
-    } else if (model == "uniform") {
-      s.model = SkyModel::Uniform;
-      s.spectrum = DenseSpectrum::constant(1.0f);
-    } else if (model == "none") {
+    if (model == "none") {
       s.enabled = false;
     } else {
-      t->fail("model", "sky model must be \"cie\", \"uniform\" or \"none\"");
+      std::optional<SkyModel> m = create_registered<SkyModel>(model, *t);
+      if (!m) t->fail("model", fmt::format("sky model must be {} or \"none\"", registered_names<SkyModel>()));
+      s.model = std::move(*m);
+      s.spectrum = std::visit([](const auto& sky) { return sky.default_spectrum(); }, s.model);
     }
     if (t->has("spectrum")) s.spectrum = t->spectrum("spectrum", Extrapolate::Zero);
     s.spectrum *= t->real("scale", 1.0, 0.0, 1e6);
     s.ground_albedo = t->real("ground_albedo", 0.0, 0.0, 1.0);
-    if (s.ground_albedo > 0 && !(s.enabled && s.model == SkyModel::CieStandard))
+    if (s.ground_albedo > 0 && !(s.enabled && upper_hemisphere_only(s.model)))
       t->fail("ground_albedo", "ground_albedo needs model = \"cie\"");
+    t->check_unused();
   }
 
   // [materials.NAME] tables: the material registry (render/materials/material.h) picks the type and

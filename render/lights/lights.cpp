@@ -13,24 +13,6 @@ namespace {
 constexpr int kSkyPhiBins = 256;
 constexpr int kSkyThetaBins = 128;
 
-struct CieSkyCoefficients {
-  float a, b, c, d, e;
-};
-
-const std::array<CieSkyCoefficients, 15>& cie_sky_table() {
-  static const auto table = [] {
-    const Table t = read_table(data_file("cie_standard_general_sky_15_types.csv"), true, {"description"});
-    std::array<CieSkyCoefficients, 15> out{};
-    if (t.rows() != 15) throw Error("CIE sky table: expected 15 rows");
-    for (size_t r = 0; r < 15; ++r)
-      out[r] = {static_cast<float>(t.columns[t.column("a")][r]), static_cast<float>(t.columns[t.column("b")][r]),
-                static_cast<float>(t.columns[t.column("c")][r]), static_cast<float>(t.columns[t.column("d")][r]),
-                static_cast<float>(t.columns[t.column("e")][r])};
-    return out;
-  }();
-  return table;
-}
-
 }  // namespace
 
 Vec3 sun_direction(float azimuth_deg, float elevation_deg) {
@@ -38,28 +20,14 @@ Vec3 sun_direction(float azimuth_deg, float elevation_deg) {
   return glm::normalize(Vec3(std::sin(az) * std::cos(el), std::cos(az) * std::cos(el), std::sin(el)));
 }
 
-float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir) {
-  if (dir.z <= 0) return 0.0f;
-  const CieSkyCoefficients& k = cie_sky_table().at(static_cast<size_t>(type - 1));
-  // Gradation φ(Z) = 1 + a·exp(b / cos Z); indicatrix f(χ) = 1 + c·[exp(dχ) − exp(dπ/2)] + e·cos²χ.
-  auto gradation = [&](float cos_z) { return 1.0f + k.a * std::exp(k.b / std::max(cos_z, 1e-4f)); };
-  auto indicatrix = [&](float chi) {
-    return 1.0f + k.c * (std::exp(k.d * chi) - std::exp(k.d * kPi / 2)) + k.e * sqr(std::cos(chi));
-  };
-  const float chi = safe_acos(glm::dot(dir, sun_dir));
-  const float zs = safe_acos(sun_dir.z);
-  const float value = indicatrix(chi) * gradation(dir.z) / (indicatrix(zs) * gradation(1.0f));
-  return std::max(0.0f, value);
-}
-
 Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sky_(sky) {
   const Vec3 sun_dir = sun_direction(sun.azimuth_deg, sun.elevation_deg);
   sky_.sun_direction = sun_dir;
-  if (sky.model == SkyModel::CieStandard && (sky.cie_type < 1 || sky.cie_type > 15))
+  if (const CieSky* cie = std::get_if<CieSky>(&sky.model); cie && (cie->type < 1 || cie->type > 15))
     throw Error("sky: CIE standard sky type must be 1..15");
   if (!(sky.ground_albedo >= 0.0f && sky.ground_albedo <= 1.0f)) throw Error("sky: ground albedo must lie in [0, 1]");
-  has_ground_ = sky.enabled && sky.model == SkyModel::CieStandard && sky.ground_albedo > 0.0f;
-  if (sky.ground_albedo > 0.0f && !has_ground_) throw Error("sky: a ground albedo needs the CIE sky");
+  has_ground_ = sky.enabled && upper_hemisphere_only(sky.model) && sky.ground_albedo > 0.0f;
+  if (sky.ground_albedo > 0.0f && !has_ground_) throw Error("sky: a ground albedo needs a sky above the horizon only");
 
   // Sun: a uniform disc whose radiance gives the irradiance at normal incidence, E = π L sin²α.
   float sun_power = 0;
@@ -76,7 +44,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
   // Sky: tabulate the directional shape g(ω) over (φ, θ) with the sin θ Jacobian.
   float sky_power = 0;
   if (sky.enabled) {
-    sky_theta_max_ = sky.model == SkyModel::Uniform || has_ground_ ? kPi : 0.5f * kPi;
+    sky_theta_max_ = !upper_hemisphere_only(sky.model) || has_ground_ ? kPi : 0.5f * kPi;
     std::vector<float> w(kSkyPhiBins * kSkyThetaBins);
     double horizontal = 0;  // ∫ g cos θ dω over the upper hemisphere
     const float dphi = kTwoPi / kSkyPhiBins, dtheta = sky_theta_max_ / kSkyThetaBins;
@@ -89,7 +57,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
         if (d.z > 0) horizontal += g * d.z * std::sin(theta) * dphi * dtheta;
       }
     }
-    if (sky.model == SkyModel::Uniform) {
+    if (!normalised_to_horizontal(sky.model)) {
       sky_radiance_ = sky.spectrum;
       sky_power = static_cast<float>(sky.spectrum.integral() * kPi);
     } else {
@@ -123,8 +91,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
 }
 
 float Environment::sky_shape(const Vec3& dir) const {
-  if (sky_.model == SkyModel::Uniform) return 1.0f;
-  return cie_sky_relative_luminance(sky_.cie_type, dir, sky_.sun_direction);
+  return std::visit([&](const auto& m) { return m.relative_radiance(dir, sky_.sun_direction); }, sky_.model);
 }
 
 SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths& wl) const {

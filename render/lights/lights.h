@@ -8,6 +8,10 @@
 #include "core/math.h"
 #include "core/sampling.h"
 #include "core/spectrum.h"
+#include "render/lights/cie_sky.h"
+#include "render/lights/uniform_sky.h"
+
+#include <variant>
 
 namespace sylva {
 
@@ -22,24 +26,35 @@ struct SunDesc {
   DenseSpectrum irradiance = astm_g173_direct();
 };
 
-enum class SkyModel { CieStandard, Uniform };
+// Sky models: a closed set open to extension. Each lives in its own header and provides
+//   static constexpr std::string_view kType;           // [sky] model = "..."
+//   static constexpr bool kNormalisedToHorizontal;     // spectrum = horizontal irradiance (else radiance)
+//   static constexpr bool kUpperHemisphereOnly;        // zero below the horizon
+//   static M create(const Params&);                     // reads its own parameters
+//   DenseSpectrum default_spectrum() const;
+//   float relative_radiance(dir, sun_dir) const;        // the directional shape g(ω)
+// Adding a sky = its header + one entry in the variant below.
+using SkyModel = std::variant<CieSky, UniformSky>;
+
+inline bool normalised_to_horizontal(const SkyModel& m) {
+  return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::kNormalisedToHorizontal; }, m);
+}
+inline bool upper_hemisphere_only(const SkyModel& m) {
+  return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::kUpperHemisphereOnly; }, m);
+}
 
 struct SkyDesc {
   bool enabled = true;
-  SkyModel model = SkyModel::CieStandard;
-  int cie_type = 12;  // CIE standard general sky type 1–15 (12: clear, low turbidity)
-  // CieStandard: the diffuse irradiance on a horizontal surface, W·m⁻²·nm⁻¹; the sky's radiance
-  // is this spectrum times the CIE relative luminance distribution, normalised to match it.
-  // Uniform: the radiance itself (W·m⁻²·sr⁻¹·nm⁻¹) in every direction of the sphere.
+  SkyModel model = CieSky{};
+  // Normalised models (CIE): the diffuse irradiance on a horizontal surface, W·m⁻²·nm⁻¹; the sky's
+  // radiance is this spectrum times the relative distribution, normalised to match it.
+  // Others (uniform): the radiance itself (W·m⁻²·sr⁻¹·nm⁻¹) in every direction.
   DenseSpectrum spectrum = astm_g173_diffuse();
-  // CieStandard only: below the horizon, a Lambertian ground of this albedo lit by the sun and
-  // this sky (a stand-in for terrain beyond the scene's geometry). 0: black below the horizon.
+  // Upper-hemisphere models only: below the horizon, a Lambertian ground of this albedo lit by the
+  // sun and this sky (a stand-in for terrain beyond the scene's geometry). 0: black below the horizon.
   float ground_albedo = 0.0f;
   Vec3 sun_direction{0, 0, 1};  // for the CIE indicatrix
 };
-
-// CIE relative sky luminance L(ω)/L(zenith) (ISO 15469 / CIE S 011), 0 below the horizon.
-float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir);
 
 struct LightSample {
   Vec3 wi;  // world direction towards the light

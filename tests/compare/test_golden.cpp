@@ -93,7 +93,8 @@ TEST(GoldenPower, OnePixelCameraShiftFails) {
     CameraDesc& cam = s.camera;
     const Vec3 forward = cam.target - cam.position;
     const Vec3 right = glm::normalize(glm::cross(forward, cam.up));
-    const float pixel = 2.0f * std::tan(0.5f * radians(cam.vfov_deg)) / 64.0f;
+    const float pixel =
+        2.0f * std::tan(0.5f * radians(std::get<PerspectiveProjection>(cam.projection).vfov_deg)) / 64.0f;
     cam.target += right * pixel * glm::length(forward);
   };
   expect_rejected("instancing", "1-pixel camera shift", check_golden_case(c, {}, modify));

@@ -20,11 +20,11 @@ std::vector<Band> test_bands() { return {resolve_band("rgb"), resolve_band("nir"
 Scene furnace_scene() {
   Scene s;
   s.sun.enabled = false;
-  s.sky.model = SkyModel::Uniform;
+  s.sky.model = UniformSky{};
   s.sky.spectrum = DenseSpectrum::constant(1.0f);
   s.camera.position = {0, -6, 0.5f};
   s.camera.target = {0, 0, 0.5f};
-  s.camera.vfov_deg = 30;
+  std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 30;
   return s;
 }
 
@@ -124,7 +124,7 @@ TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {
     s.camera.position = {0, 0, 4};
     s.camera.target = {0, 0, 0};
     s.camera.up = {0, 1, 0};
-    s.camera.vfov_deg = 40;
+    std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 40;
     std::vector<double> l = {300, 500, 700, 900, 2500}, v = {0.1, 0.2, 0.5, 0.6, 0.3};
     const DenseSpectrum rho = DenseSpectrum::from_samples(l, v, Extrapolate::Clamp);
     const uint32_t m = s.add_material("soil", make_diffuse("soil", rho));
@@ -146,7 +146,7 @@ TEST(Transport, GroundBelowTheHorizonLightsAPlaneFromBelow) {
   s.camera.position = {0, 0, 0};
   s.camera.target = {0, 0, 1};
   s.camera.up = {0, 1, 0};
-  s.camera.vfov_deg = 40;
+  std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 40;
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(0.8f)));
   const Mat4 flip = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, 2)), kPi, Vec3(1, 0, 0));
   s.instances.push_back({s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0}), flip, 0});

@@ -118,6 +118,8 @@ TEST(SceneFile, EveryMistakeNamesFileAndLine) {
       {"[camera]\nposition = [0, 0]\n", "scene.toml:2: 'position' must be an array of 3 numbers"},
       {"[camera]\nposition = [1, 2, 3]\ntarget = [1, 2, 3]\n", "scene.toml:1: camera position and target must differ"},
       {"[camera]\nvfov = 200\n", "scene.toml:2: 'vfov' must lie in"},
+      {"[camera]\ntype = \"fisheye\"\n", "scene.toml:2: camera type must be \"perspective\", \"orthographic\""},
+      {"[camera]\ntype = \"orthographic\"\nvfov = 40\n", "scene.toml:3: unknown key 'vfov' in [camera]"},
       {"[render]\nspp = 0\n", "scene.toml:2: 'spp' must lie in"},
       {"[render]\nwidth = \"wide\"\n", "scene.toml:2: 'width' must be an integer"},
       {"[sky]\nmodel = \"perez\"\n", "scene.toml:2: sky model must be"},

@@ -39,7 +39,7 @@ TEST(Lights, UniformSkyChi2) {
   SunDesc sun;
   sun.enabled = false;
   SkyDesc sky;
-  sky.model = SkyModel::Uniform;
+  sky.model = UniformSky{};
   sky.spectrum = DenseSpectrum::constant(1.0f);
   const auto r = chi2_environment(Environment(sun, sky), 12);
   EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
@@ -64,7 +64,7 @@ TEST(Lights, CieSkyWithGroundChi2AndRadiance) {
   EXPECT_NEAR(env.eval(glm::normalize(Vec3(0.3f, 0.2f, -0.5f)), wl).x, expected, 1e-5f * expected);
   // A ground needs the CIE sky.
   SkyDesc uniform;
-  uniform.model = SkyModel::Uniform;
+  uniform.model = UniformSky{};
   uniform.ground_albedo = 0.2f;
   EXPECT_THROW(Environment(sun, uniform), Error);
 }
@@ -149,7 +149,7 @@ TEST(Lights, SkyHorizontalIrradianceMatchesItsSpectrum) {
   sun.elevation_deg = 40;
   for (int type : {1, 5, 12, 15}) {
     SkyDesc sky;
-    sky.cie_type = type;
+    sky.model = CieSky{type};
     const Environment env(sun, sky);
     SampledWavelengths wl;
     wl.lambda_nm = SampledSpectrum(500.0f);

@@ -24,7 +24,7 @@ TEST(Camera, FieldOfViewAndOrientation) {
   CameraDesc d;
   d.position = {0, 0, 0};
   d.target = {0, 1, 0};
-  d.vfov_deg = 60;
+  std::get<PerspectiveProjection>(d.projection).vfov_deg = 60;
   const Camera cam(d, 100, 100);
   // Top edge of the image is 30° up; left edge is 30° left (square image); +Z is up in the image.
   const Ray top = cam.generate_ray({50, 0}, {});
@@ -38,14 +38,14 @@ TEST(Camera, ThinLensFocusesOnThePlaneOfFocus) {
   CameraDesc d;
   d.position = {0, -10, 1};
   d.target = {0, 0, 1};
-  d.aperture_radius_m = 0.05f;
-  d.focus_distance_m = 7.0f;
+  std::get<PerspectiveProjection>(d.projection).aperture_radius_m = 0.05f;
+  std::get<PerspectiveProjection>(d.projection).focus_distance_m = 7.0f;
   const Camera cam(d, 64, 48);
   Pcg32 rng(3);
   const Vec2 film(13.3f, 40.2f);
   // All lens samples meet where the pinhole ray crosses the plane y = -3 (distance 7 along +Y).
   CameraDesc pin = d;
-  pin.aperture_radius_m = 0;
+  std::get<PerspectiveProjection>(pin.projection).aperture_radius_m = 0;
   const Ray centre = Camera(pin, 64, 48).generate_ray(film, {});
   const Vec3 focus = centre.origin + centre.direction * (7.0f / centre.direction.y);
   float spread_at_focus = 0, spread_off_focus = 0;
@@ -60,6 +60,28 @@ TEST(Camera, ThinLensFocusesOnThePlaneOfFocus) {
   }
   EXPECT_LT(spread_at_focus, 1e-4f);
   EXPECT_GT(spread_off_focus, 0.02f);
+}
+
+TEST(Camera, OrthographicRaysAreParallelAndSpanTheFootprint) {
+  CameraDesc d;
+  d.position = {3, 4, 100};
+  d.target = {3, 4, 0};
+  d.up = {0, 1, 0};
+  OrthographicProjection ortho;
+  ortho.width_m = 20;
+  d.projection = ortho;
+  const Camera cam(d, 200, 100);
+  const Ray left = cam.generate_ray({0, 50}, {0.3f, 0.7f});
+  const Ray right = cam.generate_ray({200, 50}, {0.9f, 0.1f});
+  const Ray top = cam.generate_ray({100, 0}, {});
+  for (const Ray& r : {left, right, top}) {
+    EXPECT_NEAR(r.direction.z, -1.0f, 1e-6f);
+    EXPECT_NEAR(r.origin.z, 100.0f, 1e-4f);
+  }
+  // 20 m across, 10 m up-down (aspect 2:1); image right is world +X, image top world +Y here.
+  EXPECT_NEAR(right.origin.x - left.origin.x, 20.0f, 1e-4f);
+  EXPECT_NEAR(left.origin.x, -7.0f, 1e-4f);
+  EXPECT_NEAR(top.origin.y, 9.0f, 1e-4f);
 }
 
 }  // namespace
