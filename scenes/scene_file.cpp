@@ -386,6 +386,14 @@ class SceneParser {
       dependency_hash_ = hash_ids(dependency_hash_, hash_text(text.str()));
       sp = species_.emplace(file.string(), parse_species(text.str(), file)).first;
       out_.warnings.insert(out_.warnings.end(), sp->second.warnings.begin(), sp->second.warnings.end());
+      // A TOML species naming a TREE-MAKER template depends on the template's text too.
+      const auto* tm = std::get_if<TreeMakerTemplate>(&sp->second.model);
+      if (tm != nullptr && tm->source != file) {
+        std::ifstream tin(tm->source, std::ios::binary);
+        std::stringstream ttext;
+        ttext << tin.rdbuf();
+        dependency_hash_ = hash_ids(dependency_hash_, hash_text(ttext.str()));
+      }
     }
     return sp->second;
   }

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 namespace sylva {
 namespace {
@@ -55,6 +56,21 @@ TEST(TreeMakerScene, TomlSpeciesNamesATemplate) {
   }
   std::ofstream(dir / "missing.toml") << "model = \"treemaker\"\ntemplate = \"nowhere.tmpl\"\n";
   EXPECT_THROW(load_species(dir / "missing.toml"), ParseError);
+}
+
+TEST(TreeMakerScene, TheSceneHashCoversATemplateNamedByATomlSpecies) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "sylva_test_treemaker_hash";
+  std::filesystem::create_directories(dir);
+  const std::string tmpl = [] {
+    std::ifstream in(kSource / "data" / "species" / "dogwood.tmpl", std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  }();
+  std::ofstream(dir / "d.toml") << "model = \"treemaker\"\ntemplate = \"d.tmpl\"\n";
+  const std::string scene = "[[trees]]\nspecies = \"d.toml\"\n";
+  std::ofstream(dir / "d.tmpl", std::ios::binary) << tmpl;
+  const std::string before = parse_scene(scene, "s.toml", dir).content_hash;
+  std::ofstream(dir / "d.tmpl", std::ios::binary) << tmpl << "\n# changed\n";
+  EXPECT_NE(parse_scene(scene, "s.toml", dir).content_hash, before);
 }
 
 TEST(TreeMakerScene, FlowersAreASecondPrototypeWithTheTemplateColours) {
