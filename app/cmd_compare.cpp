@@ -1,4 +1,4 @@
-// `sylva compare`: statistical comparison of a render against a reference (core/image_compare.h).
+// `sylva compare`: statistical comparison of a render against a reference (compare/image_compare.h).
 
 #include "compare/compare_report.h"
 #include "core/error.h"

@@ -5,25 +5,16 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "render/renderer.h"
+#include "render/session.h"
 #include "scenes/scene_file.h"
 
 #include <fmt/core.h>
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
-#include <thread>
 
 namespace sylva {
 
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-
-extern "C" void on_signal(int sig) {
-  g_interrupted.store(true);
-  std::signal(sig, SIG_DFL);  // a second signal ends the process at once
-}
 
 struct RenderOptions {
   std::string scene;
@@ -74,12 +65,11 @@ float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& cha
 
 int run_render(const RenderOptions& opt) {
   // From here on SIGINT/SIGTERM stop the render cleanly (a checkpoint is written).
-  g_interrupted = false;
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  const InterruptHandlers interrupt_handlers;
   SceneFile file = opt.scene.empty() ? default_scene() : load_scene_file(opt.scene);
   if (!opt.quiet)
     for (const std::string& w : file.warnings) fmt::print(stderr, "{}\n", w);
+  // The scene file's settings, with the command line's overrides on top.
   RenderSettings settings = render_settings(file);
   if (!opt.res.empty()) {
     int w = 0, h = 0;
@@ -93,73 +83,44 @@ int run_render(const RenderOptions& opt) {
   if (opt.seed >= 0) settings.seed = static_cast<uint64_t>(opt.seed);
   settings.threads = opt.threads;
   if (opt.max_depth > 0) settings.integrator.max_depth = opt.max_depth;
-  const std::vector<std::string> band_names = opt.bands.empty() ? file.bands : split_list(opt.bands);
-  if (!opt.bands.empty()) settings.bands = resolve_bands(file, band_names);
+  if (!opt.bands.empty()) settings.bands = resolve_bands(file, split_list(opt.bands));
   settings.progress = !opt.quiet;
 
   std::filesystem::path exr = !opt.exr.empty() ? std::filesystem::path(opt.exr) : file.output.exr;
   if (exr.empty()) throw Error("no output file: give -o OUT.exr (or [output] exr = ... in the scene)");
   std::filesystem::path png = !opt.png.empty() ? std::filesystem::path(opt.png) : file.output.png;
-  const std::filesystem::path checkpoint = exr.string() + ".checkpoint";
-
-  // What the checkpoint must match to be resumed: everything that changes the samples.
-  std::string key = fmt::format("sylva {} scene {} seed {} res {}x{} depth {} bands", SYLVA_VERSION, file.content_hash,
-                                settings.seed, settings.width, settings.height, settings.integrator.max_depth);
-  for (const auto& b : band_names) key += " " + b;
 
   const auto t0 = std::chrono::steady_clock::now();
-  std::atomic<bool> stop{false};
-  settings.cancel = &stop;
-  Renderer renderer(file.scene, settings);
-  const EmbreeStats& es = renderer.embree_stats();
+  const EmbreeScene embree(file.scene);
+  const EmbreeStats& es = embree.stats();
   if (!opt.quiet)
     fmt::print(
         stderr,
         "scene: {} instances, {} unique triangles + {} leaf quads ({} + {} instanced); BVH {:.1f} MiB in {:.0f} ms\n",
         es.instances, es.triangles, es.leaf_quads, es.instanced_triangles, es.instanced_leaf_quads,
         es.bvh_bytes / 1048576.0, es.build_ms);
-  Film film = opt.resume ? Film::load(checkpoint, key) : renderer.make_film();
+  SessionOptions session_options;
+  session_options.checkpoint = exr.string() + ".checkpoint";
+  session_options.key = checkpoint_key(file.content_hash, settings);
+  session_options.resume = opt.resume;
+  session_options.checkpoint_minutes = opt.checkpoint_minutes;
+  session_options.interrupt = &InterruptHandlers::flag();
+  RenderSession session(file.scene, embree, settings, session_options);
   if (opt.resume && !opt.quiet)
-    fmt::print(stderr, "resuming from {} ({} samples)\n", checkpoint.string(), film.total_samples());
+    fmt::print(stderr, "resuming from {} ({} samples)\n", session_options.checkpoint.string(),
+               session.resumed_samples());
 
-  // Render in rounds: stop for a periodic checkpoint, or for good on SIGINT/SIGTERM.
-  RenderStats total;
-  while (true) {
-    stop = false;
-    std::atomic<bool> done{false};
-    std::thread watcher([&] {
-      const auto start = std::chrono::steady_clock::now();
-      while (!done) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        const double minutes = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 60.0;
-        if (g_interrupted || (opt.checkpoint_minutes > 0 && minutes >= opt.checkpoint_minutes)) {
-          stop = true;
-          return;
-        }
-      }
-    });
-    const RenderStats stats = renderer.render(film);
-    done = true;
-    watcher.join();
-    total.samples += stats.samples;
-    total.rays += stats.rays;
-    total.seconds += stats.seconds;
-    if (!stats.interrupted) break;
-    film.save(checkpoint, key);
-    if (g_interrupted) {
-      std::signal(SIGINT, SIG_DFL);
-      std::signal(SIGTERM, SIG_DFL);
-      fmt::print(
-          stderr,
-          "\ninterrupted: checkpoint with {} samples written to {}; continue with the same command and --resume\n",
-          film.total_samples(), checkpoint.string());
-      return 130;
-    }
+  const SessionResult result = session.run();
+  const RenderStats& total = result.stats;
+  if (result.interrupted) {
+    fmt::print(stderr,
+               "\ninterrupted: checkpoint with {} samples written to {}; continue with the same command and --resume\n",
+               result.film.total_samples(), session_options.checkpoint.string());
+    return 130;
   }
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
 
-  Image image = renderer.make_image(film);
+  const Renderer& renderer = session.renderer();
+  Image image = renderer.make_image(result.film);
   annotate_render(image, file, settings);
   write_exr(exr, image);
 
@@ -173,7 +134,7 @@ int run_render(const RenderOptions& opt) {
                           (file.output.auto_exposure ? auto_exposure_ev(image, preview.channels) : 0.0f);
     write_png_preview(png, image, preview);
   }
-  std::filesystem::remove(checkpoint);
+  session.remove_checkpoint();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!opt.quiet)
     fmt::print(stderr,

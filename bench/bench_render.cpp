@@ -23,6 +23,7 @@ const SceneFile& bench_scene(BenchScene which) {
   return which == BenchScene::kDefault ? default_file : dense_file;
 }
 
+// The scene file's settings (bands, depth) at the benchmark's fixed resolution, spp and seed.
 RenderSettings bench_settings(const SceneFile& file, int threads) {
   RenderSettings s = render_settings(file);
   s.width = 320;
@@ -38,7 +39,8 @@ RenderSettings bench_settings(const SceneFile& file, int threads) {
 // (RenderStats::seconds: the tile loop only, not film allocation).
 void bm_render(benchmark::State& state, BenchScene which, int threads) {
   const SceneFile& file = bench_scene(which);
-  Renderer renderer(file.scene, bench_settings(file, threads));
+  const EmbreeScene embree(file.scene);
+  Renderer renderer(file.scene, embree, bench_settings(file, threads));
   uint64_t samples = 0, rays = 0;
   for (auto _ : state) {
     Film film = renderer.make_film();
@@ -53,8 +55,8 @@ void bm_render(benchmark::State& state, BenchScene which, int threads) {
   state.counters["rays/sample"] = static_cast<double>(rays) / static_cast<double>(std::max<uint64_t>(samples, 1));
 }
 
-// Embree BVH build of every prototype plus the instance-level scene (what Renderer's constructor
-// spends in EmbreeScene), on all threads.
+// Embree BVH build of every prototype plus the instance-level scene (built once per scene and
+// shared by every pass), on all threads.
 void bm_build_bvh(benchmark::State& state, BenchScene which) {
   const SceneFile& file = bench_scene(which);
   double build_ms = 0;

@@ -1,5 +1,6 @@
-// Weber–Penn generation + meshing, single-threaded (issue 3 targets: Quaking Aspen ≤ 60 ms,
-// Weeping Willow ≤ 300 ms; Arbaro needs ~590 ms and ~2,580 ms).
+// Tree generation + meshing, single-threaded. Weber–Penn (issue 3 targets: Quaking Aspen ≤ 60 ms,
+// Weeping Willow ≤ 300 ms; Arbaro needs ~590 ms and ~2,580 ms); the aspen grammar and the ABOP
+// L-systems (issue 12: the grammar aspen at least as fast as the Weber–Penn aspen).
 
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/species.h"
@@ -34,8 +35,13 @@ void BM_BlackTupelo(benchmark::State& state) { bench_species(state, "black_tupel
 void BM_WeepingWillow(benchmark::State& state) { bench_species(state, "weeping_willow.toml"); }
 void BM_CaliforniaBlackOak(benchmark::State& state) { bench_species(state, "california_black_oak.toml"); }
 
-void BM_WeepingWillowGenerateOnly(benchmark::State& state) {
-  const sylva::Species species = sylva::load_species(kSpeciesDir / "weeping_willow.toml");
+void BM_GrammarAspen(benchmark::State& state) { bench_species(state, "quaking_aspen.grammar"); }
+void BM_AbopBush(benchmark::State& state) { bench_species(state, "abop_bush.lsys"); }
+void BM_AbopStochastic(benchmark::State& state) { bench_species(state, "abop_stochastic.lsys"); }
+void BM_AbopMonopodial(benchmark::State& state) { bench_species(state, "abop_monopodial.lsys"); }
+
+void bench_generate_only(benchmark::State& state, const char* file) {
+  const sylva::Species species = sylva::load_species(kSpeciesDir / file);
   for (auto _ : state) {
     const sylva::TreeModel model = sylva::make_species_model(species, 1);
     benchmark::DoNotOptimize(model.sections.positions.data());
@@ -64,6 +70,10 @@ void BM_DogwoodTemplateGenerateOnly(benchmark::State& state) {
   }
 }
 
+void BM_WeepingWillowGenerateOnly(benchmark::State& state) { bench_generate_only(state, "weeping_willow.toml"); }
+void BM_QuakingAspenGenerateOnly(benchmark::State& state) { bench_generate_only(state, "quaking_aspen.toml"); }
+void BM_GrammarAspenGenerateOnly(benchmark::State& state) { bench_generate_only(state, "quaking_aspen.grammar"); }
+
 }  // namespace
 
 BENCHMARK(BM_QuakingAspen)->Unit(benchmark::kMillisecond);
@@ -73,3 +83,10 @@ BENCHMARK(BM_CaliforniaBlackOak)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WeepingWillowGenerateOnly)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DogwoodTemplate)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DogwoodTemplateGenerateOnly)->Unit(benchmark::kMillisecond);
+
+BENCHMARK(BM_GrammarAspen)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AbopBush)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AbopStochastic)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AbopMonopodial)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_QuakingAspenGenerateOnly)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GrammarAspenGenerateOnly)->Unit(benchmark::kMillisecond);

@@ -5,4 +5,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash cmake/build.sh
 mkdir -p out
-./build/scenes/sylva render -o out/default.exr --png out/default.png "$@"
+./build/app/sylva render -o out/default.exr --png out/default.png "$@"

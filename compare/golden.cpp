@@ -1,7 +1,7 @@
 #include "compare/golden.h"
 
 #include "core/error.h"
-#include "core/rng.h"
+#include "core/hash.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
@@ -60,25 +60,22 @@ void write_golden_record(const std::filesystem::path& file, const GoldenRecord& 
 }
 
 std::string image_hash(const Image& image) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  auto feed = [&](const void* data, size_t n) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 0x100000001b3ull;
-  };
-  feed(&image.width, sizeof(image.width));
-  feed(&image.height, sizeof(image.height));
-  for (const std::string& c : image.channels) feed(c.data(), c.size() + 1);
-  feed(image.pixels.data(), image.pixels.size() * sizeof(float));
-  return fmt::format("{:016x}", h);
+  Fnv1a64 h;
+  h.add(&image.width, sizeof(image.width));
+  h.add(&image.height, sizeof(image.height));
+  for (const std::string& c : image.channels) h.add(c.c_str(), c.size() + 1);  // with the terminating 0
+  h.add_vector(image.pixels);
+  return hex64(h.value());
 }
 
-Image render_scene(const SceneFile& file, int spp, uint64_t seed, const std::function<void(RenderSettings&)>& adjust) {
+Image render_scene(const SceneFile& file, const EmbreeScene& embree, int spp, uint64_t seed,
+                   const std::function<void(RenderSettings&)>& adjust, const TransportFaults& faults) {
   RenderSettings settings = render_settings(file);
   settings.spp = spp;
   settings.seed = seed;
   settings.progress = false;
   if (adjust) adjust(settings);
-  Renderer renderer(file.scene, settings);
+  Renderer renderer(file.scene, embree, settings, faults);
   Film film = renderer.make_film();
   renderer.render(film);
   Image image = renderer.make_image(film);
@@ -95,8 +92,10 @@ CompareOptions golden_compare_options() {
 void update_golden_case(const GoldenCase& c, const GoldenRecord& settings, bool progress) {
   const SceneFile file = load_scene_file(c.scene);
   GoldenRecord g = settings;
-  Image ref = render_scene(file, g.reference_spp, g.reference_seed, [&](RenderSettings& s) { s.progress = progress; });
-  const Image det = render_scene(file, g.determinism_spp, g.determinism_seed);
+  const EmbreeScene embree(file.scene);
+  Image ref =
+      render_scene(file, embree, g.reference_spp, g.reference_seed, [&](RenderSettings& s) { s.progress = progress; });
+  const Image det = render_scene(file, embree, g.determinism_spp, g.determinism_seed);
   g.determinism_hash = image_hash(det);
   g.scene_hash = file.content_hash;
   g.version = SYLVA_VERSION;
@@ -105,7 +104,7 @@ void update_golden_case(const GoldenCase& c, const GoldenRecord& settings, bool 
 }
 
 GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(RenderSettings&)>& adjust,
-                              const std::function<void(Scene&)>& modify) {
+                              const std::function<void(Scene&)>& modify, const TransportFaults& faults) {
   const GoldenRecord g = read_golden_record(c.record);
   SceneFile file = load_scene_file(c.scene);
   if (!g.scene_hash.empty() && g.scene_hash != file.content_hash)
@@ -116,9 +115,10 @@ GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(Rend
   if (modify) modify(file.scene);
   const Image ref = read_exr(c.reference);
   GoldenCheck out;
-  out.test = render_scene(file, g.check_spp, g.check_seed, adjust);
+  const EmbreeScene embree(file.scene, faults);  // built once for both renders
+  out.test = render_scene(file, embree, g.check_spp, g.check_seed, adjust, faults);
   out.compare = compare_images(out.test, ref, golden_compare_options());
-  out.determinism_hash = image_hash(render_scene(file, g.determinism_spp, g.determinism_seed, adjust));
+  out.determinism_hash = image_hash(render_scene(file, embree, g.determinism_spp, g.determinism_seed, adjust, faults));
   out.determinism_matches = out.determinism_hash == g.determinism_hash;
   return out;
 }

@@ -6,10 +6,11 @@
 //   <name>.toml  the record: reference and check sample counts and seeds, and the hash of a
 //                low-spp render that must be reproduced bit for bit (any logic change shows).
 // Checking renders the scene at the check spp with another seed and compares it statistically
-// with the reference (core/image_compare.h), and re-renders the determinism image.
+// with the reference (compare/image_compare.h), and re-renders the determinism image.
 
-#include "core/image.h"
 #include "compare/image_compare.h"
+#include "core/image.h"
+#include "render/testing/faults.h"
 #include "scenes/scene_file.h"
 
 #include <cstdint>
@@ -48,10 +49,12 @@ void write_golden_record(const std::filesystem::path& file, const GoldenRecord& 
 // Hash of an image's channel names and pixel bits (FNV-1a 64, hex): equal iff bit-identical.
 std::string image_hash(const Image& image);
 
-// Renders a scene at `spp` and `seed` (everything else from the file) to an annotated image.
-// `adjust` may change the settings first (thread count, fault injection).
-Image render_scene(const SceneFile& file, int spp, uint64_t seed,
-                   const std::function<void(RenderSettings&)>& adjust = {});
+// Renders a scene at `spp` and `seed` (everything else from the file) to an annotated image,
+// through `embree` (built from file.scene, shared by the case's renders). `adjust` may change the
+// settings first (e.g. the thread count); `faults` is the power tests' seam (render/testing/faults.h),
+// none by default — build `embree` with the same faults.
+Image render_scene(const SceneFile& file, const EmbreeScene& embree, int spp, uint64_t seed,
+                   const std::function<void(RenderSettings&)>& adjust = {}, const TransportFaults& faults = {});
 
 // How golden images are compared: statistical radiance channels (z-test + mean-bias test), ids
 // exact, depth and normals within a small absolute tolerance.
@@ -66,9 +69,10 @@ struct GoldenCheck {
   std::string determinism_hash;  // what this build produced
   bool determinism_matches = false;
 };
-// `adjust` and `modify` change the settings and the scene before the check renders (the power
-// tests use them to inject faults; a plain check passes neither).
+// `adjust` and `modify` change the settings and the scene before the check renders, and `faults`
+// injects transport faults (the power tests use them to show regressions are caught; a plain check
+// passes none).
 GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(RenderSettings&)>& adjust = {},
-                              const std::function<void(Scene&)>& modify = {});
+                              const std::function<void(Scene&)>& modify = {}, const TransportFaults& faults = {});
 
 }  // namespace sylva

@@ -1,19 +1,15 @@
 #include "core/image.h"
 
+#include "core/atomic_file.h"
 #include "core/color.h"
 #include "core/error.h"
 
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 
-#include <unistd.h>
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
-#include <functional>
-#include <system_error>
 
 namespace sylva {
 namespace {
@@ -28,28 +24,6 @@ OIIO::TypeDesc storage_type(PixelType type) {
       return OIIO::TypeDesc::UINT32;
   }
   return OIIO::TypeDesc::FLOAT;
-}
-
-// Runs `write(temporary)` and renames the temporary over `path`; on any failure the temporary is
-// removed and a sylva::Error("path: why") is thrown.
-void write_atomically(const std::filesystem::path& path, const std::function<void(const std::string&)>& write) {
-  const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  auto discard = [&] {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-  };
-  try {
-    write(tmp.string());
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw Error(path.string() + ": cannot rename temporary file: " + ec.message());
-  } catch (const Error&) {
-    discard();
-    throw;
-  } catch (const std::exception& e) {
-    discard();
-    throw Error(path.string() + ": " + e.what());
-  }
 }
 
 std::string oiio_error(const std::string& what) {
@@ -155,10 +129,10 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
       }
     }
 
-  write_atomically(path, [&](const std::string& tmp) {
+  write_file_atomic_by_name(path, [&](const std::filesystem::path& tmp) {
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("openexr");
     if (!out) throw Error(path.string() + ": " + oiio_error("OpenImageIO has no OpenEXR writer"));
-    if (!out->open(tmp, spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
+    if (!out->open(tmp.string(), spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
     const bool ok = out->write_image(OIIO::TypeDesc::UNKNOWN, packed.data());
     const std::string write_error = ok ? "" : out->geterror();
     if (!out->close() || !ok) throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
@@ -227,10 +201,10 @@ void write_png_rgb8(const std::filesystem::path& path, int width, int height, co
     throw Error(path.string() + ": inconsistent PNG pixels");
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", "sRGB");
-  write_atomically(path, [&](const std::string& tmp) {
+  write_file_atomic_by_name(path, [&](const std::filesystem::path& tmp) {
     std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
     if (!out) throw Error(path.string() + ": " + oiio_error("OpenImageIO has no PNG writer"));
-    if (!out->open(tmp, spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
+    if (!out->open(tmp.string(), spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
     const bool ok = out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
     const std::string write_error = ok ? "" : out->geterror();
     if (!out->close() || !ok) throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
@@ -272,12 +246,8 @@ void write_png_preview(const std::filesystem::path& path, const Image& image, co
 }
 
 void write_text_file(const std::filesystem::path& path, std::string_view text) {
-  write_atomically(path, [&](const std::string& tmp) {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (f == nullptr) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
-    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !ok) throw Error(path.string() + ": cannot write: " + std::strerror(errno));
-  });
+  write_file_atomic(path,
+                    [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
 }
 
 }  // namespace sylva

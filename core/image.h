@@ -4,8 +4,8 @@
 //
 // Channel names follow the EXR layer convention: "R","G","B","A", "nir.Y", "Z", "N.X", "albedo.R",
 // "id.instance", and "var.<C>" for the variance of the pixel mean of channel C (image_compare.h).
-// Files are written atomically: to "<path>.tmp-<pid>", then renamed over <path>; on failure the
-// temporary is removed, <path> is left untouched and a sylva::Error is thrown.
+// Files are written atomically (core/atomic_file.h): on failure <path> is left untouched and a
+// sylva::Error naming it is thrown.
 
 #include <array>
 #include <cstdint>

@@ -3,25 +3,11 @@
 // per-tree streams are derived by hashing (seed, ids) so results never depend on thread count or
 // scheduling (docs/design.md §4).
 
+#include "core/hash.h"  // mix64, hash_ids: seeds of the random streams
+
 #include <cstdint>
 
 namespace sylva {
-
-// SplitMix64 finaliser: a bijective 64-bit mix with full avalanche.
-inline constexpr uint64_t mix64(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
-// Order-dependent hash of a seed and any number of integer ids.
-template <typename... Ids>
-inline constexpr uint64_t hash_ids(uint64_t seed, Ids... ids) {
-  uint64_t h = mix64(seed);
-  ((h = mix64(h ^ static_cast<uint64_t>(ids))), ...);
-  return h;
-}
 
 // PCG32 (O'Neill 2014, pcg32_random_r: XSH-RR output on a 64-bit LCG).
 class Pcg32 {

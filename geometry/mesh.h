@@ -23,10 +23,13 @@ struct TriangleMesh {
 // Leaves as planar quads, four consecutive corners per leaf, counter-clockwise seen from the
 // leaf's upper (adaxial) side. Corner k has leaf coordinates (u, v) = (0,0), (1,0), (1,1), (0,1):
 // u runs across the blade, v from the petiole end (v = 0) to the tip (v = 1). The outline of
-// `shapes[i]` is an alpha mask over that unit square (geometry/leaf_shape.h).
+// `shapes[i]` is an alpha mask over that unit square (geometry/leaf_shape.h). `stem[i]` is the
+// index of the TreeModel stem carrying leaf i (TreeLeaves::stem), so per-leaf results can be tied
+// back to the branch; `stem` is empty for leaves that do not come from a tree model (leaf clouds).
 struct LeafQuads {
   std::vector<Vec3> corners;
   std::vector<LeafShape> shapes;
+  std::vector<int32_t> stem;  // empty, or one entry per leaf
 
   size_t size() const { return shapes.size(); }
 };

@@ -1,5 +1,6 @@
 #include "geometry/mesh_io.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "geometry/mesh_io_detail.h"
 
@@ -83,23 +84,11 @@ class MappedFile {
   size_t size_ = 0;
 };
 
-// Buffered output to `<file>.tmp`, renamed over `file` by commit(); removed if never committed.
-class AtomicWriter {
+// Buffered output to a stream, handed over in chunks of about a megabyte (maybe_flush) and at the end
+// (flush), so large meshes are neither held whole in memory nor written a number at a time.
+class BufferedWriter {
  public:
-  explicit AtomicWriter(const fs::path& file) : file_(file), tmp_(file.string() + ".tmp") {
-    f_ = std::fopen(tmp_.c_str(), "wb");
-    if (f_ == nullptr) fail(std::strerror(errno));
-    buf_.reserve(kFlushBytes + 4096);
-  }
-  AtomicWriter(const AtomicWriter&) = delete;
-  AtomicWriter& operator=(const AtomicWriter&) = delete;
-  ~AtomicWriter() {
-    if (f_ != nullptr) std::fclose(f_);
-    if (!committed_) {
-      std::error_code ec;
-      fs::remove(tmp_, ec);
-    }
-  }
+  explicit BufferedWriter(std::ostream& out) : out_(out) { buf_.reserve(kFlushBytes + 4096); }
 
   void put(std::string_view s) {
     buf_.append(s);
@@ -127,33 +116,27 @@ class AtomicWriter {
   void maybe_flush() {
     if (buf_.size() >= kFlushBytes) flush();
   }
-
-  void commit() {
-    flush();
-    const int rc = std::fclose(f_);
-    f_ = nullptr;
-    if (rc != 0) fail(std::strerror(errno));
-    std::error_code ec;
-    fs::rename(tmp_, file_, ec);
-    if (ec) fail(ec.message());
-    committed_ = true;
+  void flush() {
+    out_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+    buf_.clear();
   }
 
  private:
   static constexpr size_t kFlushBytes = 1 << 20;
 
-  void flush() {
-    if (!buf_.empty() && std::fwrite(buf_.data(), 1, buf_.size(), f_) != buf_.size()) fail(std::strerror(errno));
-    buf_.clear();
-  }
-  [[noreturn]] void fail(const std::string& why) const { throw Error("cannot write " + file_.string() + ": " + why); }
-
-  fs::path file_;
-  fs::path tmp_;
-  std::FILE* f_ = nullptr;
+  std::ostream& out_;
   std::string buf_;
-  bool committed_ = false;
 };
+
+// Writes `file` atomically (core/atomic_file.h) through a BufferedWriter filled by `put_all`.
+template <typename PutAll>
+void write_buffered(const fs::path& file, const PutAll& put_all) {
+  write_file_atomic(file, [&](std::ostream& out) {
+    BufferedWriter w(out);
+    put_all(w);
+    w.flush();
+  });
+}
 
 void validate(const TriangleMesh& m, const fs::path& file) {
   const size_t n = m.positions.size();
@@ -213,7 +196,7 @@ constexpr std::array<Vec2, 4> kLeafUvs{Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(
 
 // One OBJ statement: `tag x y [z]`, for Vec2 and Vec3.
 template <int N>
-void put_vec(AtomicWriter& w, std::string_view tag, const glm::vec<N, float>& v) {
+void put_vec(BufferedWriter& w, std::string_view tag, const glm::vec<N, float>& v) {
   w.put(tag);
   for (int i = 0; i < N; ++i) {
     w.put(' ');
@@ -225,7 +208,7 @@ void put_vec(AtomicWriter& w, std::string_view tag, const glm::vec<N, float>& v)
 
 // One OBJ face corner "v[/vt][/vn]" with 0-based indices (kNoIndex for absent).
 constexpr uint64_t kNoIndex = ~uint64_t{0};
-void put_corner(AtomicWriter& w, uint64_t v, uint64_t vt, uint64_t vn) {
+void put_corner(BufferedWriter& w, uint64_t v, uint64_t vt, uint64_t vn) {
   w.put(' ');
   w.put(v + 1);
   if (vt == kNoIndex && vn == kNoIndex) return;
@@ -251,24 +234,24 @@ TriangleMesh read_mesh(const std::filesystem::path& file) {
 
 void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
   validate(mesh, file);
-  AtomicWriter w(file);
-  w.put("# Sylva mesh: ");
-  w.put(uint64_t{mesh.positions.size()});
-  w.put(" vertices, ");
-  w.put(uint64_t{mesh.triangles.size()});
-  w.put(" triangles\n");
-  for (const Vec3& p : mesh.positions) put_vec(w, "v", p);
-  for (const Vec2& t : mesh.uvs) put_vec(w, "vt", t);
-  for (const Vec3& n : mesh.normals) put_vec(w, "vn", n);
-  const bool uv = !mesh.uvs.empty();
-  const bool nrm = !mesh.normals.empty();
-  for (const glm::uvec3& t : mesh.triangles) {
-    w.put('f');
-    for (int k = 0; k < 3; ++k) put_corner(w, t[k], uv ? t[k] : kNoIndex, nrm ? t[k] : kNoIndex);
-    w.put('\n');
-    w.maybe_flush();
-  }
-  w.commit();
+  write_buffered(file, [&](BufferedWriter& w) {
+    w.put("# Sylva mesh: ");
+    w.put(uint64_t{mesh.positions.size()});
+    w.put(" vertices, ");
+    w.put(uint64_t{mesh.triangles.size()});
+    w.put(" triangles\n");
+    for (const Vec3& p : mesh.positions) put_vec(w, "v", p);
+    for (const Vec2& t : mesh.uvs) put_vec(w, "vt", t);
+    for (const Vec3& n : mesh.normals) put_vec(w, "vn", n);
+    const bool uv = !mesh.uvs.empty();
+    const bool nrm = !mesh.normals.empty();
+    for (const glm::uvec3& t : mesh.triangles) {
+      w.put('f');
+      for (int k = 0; k < 3; ++k) put_corner(w, t[k], uv ? t[k] : kNoIndex, nrm ? t[k] : kNoIndex);
+      w.put('\n');
+      w.maybe_flush();
+    }
+  });
 }
 
 void write_obj(const std::filesystem::path& file, const TreeMesh& mesh) {
@@ -277,47 +260,47 @@ void write_obj(const std::filesystem::path& file, const TreeMesh& mesh) {
   const LeafQuads& leaves = mesh.leaves;
   const size_t ns = stems.positions.size();
   const std::vector<Vec3> normals = stem_normals(stems);
-  AtomicWriter w(file);
-  w.put("# Sylva tree mesh: ");
-  w.put(uint64_t{stems.triangles.size()});
-  w.put(" stem triangles, ");
-  w.put(uint64_t{leaves.size()});
-  w.put(" leaf quads\no tree\n");
-  for (const Vec3& p : stems.positions) put_vec(w, "v", p);
-  for (const Vec3& p : leaves.corners) put_vec(w, "v", p);
-  // Texture coordinates: per stem vertex (or one shared (0,0)), then the four leaf corners.
-  size_t stem_vts = 0;
-  if (ns > 0) {
-    if (stems.uvs.empty()) put_vec(w, "vt", Vec2(0));
-    for (const Vec2& t : stems.uvs) put_vec(w, "vt", t);
-    stem_vts = stems.uvs.empty() ? 1 : ns;
-  }
-  if (leaves.size() > 0)
-    for (const Vec2& t : kLeafUvs) put_vec(w, "vt", t);
-  for (const Vec3& n : normals) put_vec(w, "vn", n);
-  for (size_t i = 0; i < leaves.size(); ++i) put_vec(w, "vn", leaf_normal(leaves, i));
+  write_buffered(file, [&](BufferedWriter& w) {
+    w.put("# Sylva tree mesh: ");
+    w.put(uint64_t{stems.triangles.size()});
+    w.put(" stem triangles, ");
+    w.put(uint64_t{leaves.size()});
+    w.put(" leaf quads\no tree\n");
+    for (const Vec3& p : stems.positions) put_vec(w, "v", p);
+    for (const Vec3& p : leaves.corners) put_vec(w, "v", p);
+    // Texture coordinates: per stem vertex (or one shared (0,0)), then the four leaf corners.
+    size_t stem_vts = 0;
+    if (ns > 0) {
+      if (stems.uvs.empty()) put_vec(w, "vt", Vec2(0));
+      for (const Vec2& t : stems.uvs) put_vec(w, "vt", t);
+      stem_vts = stems.uvs.empty() ? 1 : ns;
+    }
+    if (leaves.size() > 0)
+      for (const Vec2& t : kLeafUvs) put_vec(w, "vt", t);
+    for (const Vec3& n : normals) put_vec(w, "vn", n);
+    for (size_t i = 0; i < leaves.size(); ++i) put_vec(w, "vn", leaf_normal(leaves, i));
 
-  if (!stems.triangles.empty()) w.put("g stems\nusemtl stems\n");
-  for (const glm::uvec3& t : stems.triangles) {
-    w.put('f');
-    for (int k = 0; k < 3; ++k) put_corner(w, t[k], stems.uvs.empty() ? 0 : t[k], t[k]);
-    w.put('\n');
-    w.maybe_flush();
-  }
-  for (size_t s = 0; s < static_cast<size_t>(LeafShape::Count); ++s) {
-    const auto shape = static_cast<LeafShape>(s);
-    if (std::find(leaves.shapes.begin(), leaves.shapes.end(), shape) == leaves.shapes.end()) continue;
-    const std::string name = "leaves_" + std::string(leaf_shape_name(shape));
-    w.put("g " + name + "\nusemtl " + name + "\n");
-    for (size_t i = 0; i < leaves.size(); ++i) {
-      if (leaves.shapes[i] != shape) continue;
+    if (!stems.triangles.empty()) w.put("g stems\nusemtl stems\n");
+    for (const glm::uvec3& t : stems.triangles) {
       w.put('f');
-      for (size_t k = 0; k < 4; ++k) put_corner(w, ns + 4 * i + k, stem_vts + k, ns + i);
+      for (int k = 0; k < 3; ++k) put_corner(w, t[k], stems.uvs.empty() ? 0 : t[k], t[k]);
       w.put('\n');
       w.maybe_flush();
     }
-  }
-  w.commit();
+    for (size_t s = 0; s < static_cast<size_t>(LeafShape::Count); ++s) {
+      const auto shape = static_cast<LeafShape>(s);
+      if (std::find(leaves.shapes.begin(), leaves.shapes.end(), shape) == leaves.shapes.end()) continue;
+      const std::string name = "leaves_" + std::string(leaf_shape_name(shape));
+      w.put("g " + name + "\nusemtl " + name + "\n");
+      for (size_t i = 0; i < leaves.size(); ++i) {
+        if (leaves.shapes[i] != shape) continue;
+        w.put('f');
+        for (size_t k = 0; k < 4; ++k) put_corner(w, ns + 4 * i + k, stem_vts + k, ns + i);
+        w.put('\n');
+        w.maybe_flush();
+      }
+    }
+  });
 }
 
 void write_ply(const std::filesystem::path& file, const TreeMesh& mesh) {
@@ -325,47 +308,47 @@ void write_ply(const std::filesystem::path& file, const TreeMesh& mesh) {
   const TriangleMesh& stems = mesh.stems;
   const LeafQuads& leaves = mesh.leaves;
   const std::vector<Vec3> normals = stem_normals(stems);
-  AtomicWriter w(file);
-  w.put("ply\nformat binary_little_endian 1.0\ncomment Sylva tree mesh\n");
-  w.put("comment leaf_shape: LeafShape of a leaf face, 255 for stem faces");
-  for (size_t s = 0; s < static_cast<size_t>(LeafShape::Count); ++s) {
-    w.put(s == 0 ? "; " : ", ");
-    w.put(uint64_t{s});
-    w.put(" = ");
-    w.put(leaf_shape_name(static_cast<LeafShape>(s)));
-  }
-  w.put("\nelement vertex ");
-  w.put(uint64_t{stems.positions.size() + leaves.corners.size()});
-  w.put(
-      "\nproperty float x\nproperty float y\nproperty float z\n"
-      "property float nx\nproperty float ny\nproperty float nz\n"
-      "property float u\nproperty float v\nelement face ");
-  w.put(uint64_t{stems.triangles.size() + leaves.size()});
-  w.put("\nproperty list uchar int vertex_indices\nproperty uchar leaf_shape\nend_header\n");
-  auto vertex = [&](const Vec3& p, const Vec3& n, const Vec2& uv) {
-    for (const float f : {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y}) w.put_le(f);
-    w.maybe_flush();
-  };
-  for (size_t i = 0; i < stems.positions.size(); ++i)
-    vertex(stems.positions[i], normals[i], stems.uvs.empty() ? Vec2(0) : stems.uvs[i]);
-  for (size_t i = 0; i < leaves.size(); ++i) {
-    const Vec3 n = leaf_normal(leaves, i);
-    for (size_t k = 0; k < 4; ++k) vertex(leaves.corners[4 * i + k], n, kLeafUvs[k]);
-  }
-  for (const glm::uvec3& t : stems.triangles) {
-    w.put_le(uint8_t{3});
-    for (int k = 0; k < 3; ++k) w.put_le(static_cast<int32_t>(t[k]));
-    w.put_le(uint8_t{255});
-    w.maybe_flush();
-  }
-  const auto ns = static_cast<int32_t>(stems.positions.size());
-  for (size_t i = 0; i < leaves.size(); ++i) {
-    w.put_le(uint8_t{4});
-    for (int32_t k = 0; k < 4; ++k) w.put_le(static_cast<int32_t>(ns + 4 * static_cast<int32_t>(i) + k));
-    w.put_le(static_cast<uint8_t>(leaves.shapes[i]));
-    w.maybe_flush();
-  }
-  w.commit();
+  write_buffered(file, [&](BufferedWriter& w) {
+    w.put("ply\nformat binary_little_endian 1.0\ncomment Sylva tree mesh\n");
+    w.put("comment leaf_shape: LeafShape of a leaf face, 255 for stem faces");
+    for (size_t s = 0; s < static_cast<size_t>(LeafShape::Count); ++s) {
+      w.put(s == 0 ? "; " : ", ");
+      w.put(uint64_t{s});
+      w.put(" = ");
+      w.put(leaf_shape_name(static_cast<LeafShape>(s)));
+    }
+    w.put("\nelement vertex ");
+    w.put(uint64_t{stems.positions.size() + leaves.corners.size()});
+    w.put(
+        "\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float nx\nproperty float ny\nproperty float nz\n"
+        "property float u\nproperty float v\nelement face ");
+    w.put(uint64_t{stems.triangles.size() + leaves.size()});
+    w.put("\nproperty list uchar int vertex_indices\nproperty uchar leaf_shape\nend_header\n");
+    auto vertex = [&](const Vec3& p, const Vec3& n, const Vec2& uv) {
+      for (const float f : {p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y}) w.put_le(f);
+      w.maybe_flush();
+    };
+    for (size_t i = 0; i < stems.positions.size(); ++i)
+      vertex(stems.positions[i], normals[i], stems.uvs.empty() ? Vec2(0) : stems.uvs[i]);
+    for (size_t i = 0; i < leaves.size(); ++i) {
+      const Vec3 n = leaf_normal(leaves, i);
+      for (size_t k = 0; k < 4; ++k) vertex(leaves.corners[4 * i + k], n, kLeafUvs[k]);
+    }
+    for (const glm::uvec3& t : stems.triangles) {
+      w.put_le(uint8_t{3});
+      for (int k = 0; k < 3; ++k) w.put_le(static_cast<int32_t>(t[k]));
+      w.put_le(uint8_t{255});
+      w.maybe_flush();
+    }
+    const auto ns = static_cast<int32_t>(stems.positions.size());
+    for (size_t i = 0; i < leaves.size(); ++i) {
+      w.put_le(uint8_t{4});
+      for (int32_t k = 0; k < 4; ++k) w.put_le(static_cast<int32_t>(ns + 4 * static_cast<int32_t>(i) + k));
+      w.put_le(static_cast<uint8_t>(leaves.shapes[i]));
+      w.maybe_flush();
+    }
+  });
 }
 
 }  // namespace sylva

@@ -35,9 +35,9 @@ TriangleMesh read_mesh(const std::filesystem::path& file);
 // (0,0),(1,0),(1,1),(0,1) and the quad's normal, grouped by leaf shape. OBJ: `g stems`, then per
 // shape `g leaves_<name>` and `usemtl leaves_<name>` (names from leaf_shape_name). PLY:
 // binary_little_endian with vertex x y z nx ny nz u v (float) and face `list uchar int
-// vertex_indices` plus `uchar leaf_shape` (the LeafShape value, 255 for stem faces). Atomic: writes
-// `<file>.tmp` and renames it over `file`; on failure the temporary is removed and sylva::Error is
-// thrown (also for an inconsistent mesh: bad indices or attribute sizes).
+// vertex_indices` plus `uchar leaf_shape` (the LeafShape value, 255 for stem faces). Atomic
+// (core/atomic_file.h): on failure `file` is left as it was and sylva::Error is thrown (also for an
+// inconsistent mesh: bad indices or attribute sizes, refused before anything is written).
 void write_obj(const std::filesystem::path& file, const TreeMesh& mesh);
 void write_ply(const std::filesystem::path& file, const TreeMesh& mesh);
 

@@ -74,7 +74,10 @@ struct EmbreeScene::Impl {
   }
 };
 
-EmbreeScene::EmbreeScene(const Scene& scene, bool shadow_alpha) : impl_(std::make_unique<Impl>()) {
+EmbreeScene::EmbreeScene(const Scene& scene) : EmbreeScene(scene, TransportFaults{}) {}
+
+EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
+    : scene_(&scene), impl_(std::make_unique<Impl>()) {
   const auto start = std::chrono::steady_clock::now();
   g_embree_peak = g_embree_bytes.load();
   const int64_t base_bytes = g_embree_bytes.load();
@@ -116,6 +119,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, bool shadow_alpha) : impl_(std::mak
     if (lq.size() > 0) {
       if (lq.corners.size() != 4 * lq.size())
         throw Error(fmt::format("prototype '{}': leaf quads need 4 corners per leaf", proto.name));
+      if (!lq.stem.empty() && lq.stem.size() != lq.size())
+        throw Error(fmt::format("prototype '{}': leaf quads need one stem index per leaf (or none)", proto.name));
       RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
       set_vertices(g, lq.corners);
       auto* idx = static_cast<unsigned*>(
@@ -123,7 +128,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, bool shadow_alpha) : impl_(std::mak
       for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);
       rtcSetGeometryUserData(g, const_cast<LeafShape*>(lq.shapes.data()));
       rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter);
-      if (shadow_alpha) rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter);
+      if (!faults.no_shadow_alpha) rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter);
       rtcCommitGeometry(g);
       leaf_id = rtcAttachGeometry(s, g);
       rtcReleaseGeometry(g);

@@ -4,14 +4,18 @@
 // single-level instance per placed copy. Leaf outlines are alpha masks applied in both the
 // intersection and the occlusion filter, so shadows see the cut-out.
 
-#include "render/sensors/camera.h"
 #include "render/scene.h"
+#include "render/sensors/camera.h"
+#include "render/testing/faults.h"
 
 #include <cstdint>
 #include <memory>
 
 namespace sylva {
 
+// A closest hit. `instance` indexes Scene::instances; `primitive` indexes the instance's
+// prototype's triangles, or its leaf quads when `leaf` (then Prototype::leaves.stem[primitive], if
+// present, is the tree stem carrying the leaf).
 struct RayHit {
   float t = 0;
   uint32_t instance = 0;
@@ -29,10 +33,12 @@ struct EmbreeStats {
 
 class EmbreeScene {
  public:
-  // Builds the BVHs. `scene` must outlive this object (leaf shapes are read from it in filters).
-  // `shadow_alpha` false is fault injection for the golden power tests: shadow rays ignore the
-  // leaf outlines.
-  explicit EmbreeScene(const Scene& scene, bool shadow_alpha = true);
+  // Builds the BVHs, once: every pass over the scene (camera render, a light-view pass, a plot
+  // sensor) shares them. `scene` must outlive this object (leaf shapes are read from it in
+  // filters). Const member functions are safe to call from any number of threads.
+  explicit EmbreeScene(const Scene& scene);
+  // Test seam: the same scene with deliberate faults (render/testing/faults.h).
+  EmbreeScene(const Scene& scene, const TransportFaults& faults);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -43,8 +49,11 @@ class EmbreeScene {
   bool occluded(const Vec3& origin, const Vec3& direction, float t_max) const;
 
   const EmbreeStats& stats() const { return stats_; }
+  // The scene the BVHs were built from.
+  const Scene& scene() const { return *scene_; }
 
  private:
+  const Scene* scene_;
   struct Impl;
   std::unique_ptr<Impl> impl_;
   EmbreeStats stats_;

@@ -30,7 +30,11 @@ Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
 
 Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
                        IntegratorSettings settings)
-    : scene_(scene), embree_(embree), environment_(environment), settings_(settings) {
+    : Integrator(scene, embree, environment, settings, TransportFaults{}) {}
+
+Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
+                       IntegratorSettings settings, const TransportFaults& faults)
+    : scene_(scene), embree_(embree), environment_(environment), settings_(settings), faults_(faults) {
   normal_from_object_.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances)
     normal_from_object_.push_back(glm::transpose(glm::inverse(Mat3(inst.world_from_object))));
@@ -42,6 +46,8 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
   const Mat3& nfo = normal_from_object_[hit.instance];
   SurfaceInteraction si;
   si.instance = hit.instance;
+  si.prototype = inst.prototype;
+  si.primitive = hit.primitive;
   si.leaf = hit.leaf;
   Vec3 p_obj, ng_obj, ns_obj;
   if (hit.leaf) {
@@ -56,6 +62,7 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
     }
     ns_obj = ng_obj;
     si.material = proto.leaf_material;
+    if (!proto.leaves.stem.empty()) si.stem = proto.leaves.stem[hit.primitive];
   } else {
     const TriangleMesh& m = proto.triangles;
     const glm::uvec3 t = m.triangles[hit.primitive];
@@ -85,7 +92,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
     ++rays;
     if (!embree_.intersect(ray, &hit)) {
       const SampledSpectrum le = environment_.eval(ray.direction, wl);
-      if (depth == 0 || settings_.fault_mis_weight_one) {
+      if (depth == 0 || faults_.mis_weight_one) {
         L += beta * le;
       } else {
         L += beta * le * power_heuristic(prev_pdf, environment_.pdf(ray.direction));
@@ -125,8 +132,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
           if (!is_black(f) && ++rays &&
               !embree_.occluded(offset_ray_origin(si.p, transmits ? -ng : ng), ls.wi,
                                 std::numeric_limits<float>::infinity())) {
-            const float w =
-                settings_.fault_mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
+            const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
             L += beta * f * std::abs(wi_local.z) * ls.radiance * (w / ls.pdf);
           }
         }

@@ -7,6 +7,7 @@
 #include "core/rng.h"
 #include "render/embree_scene.h"
 #include "render/scene.h"
+#include "render/testing/faults.h"
 
 #include <vector>
 
@@ -15,19 +16,21 @@ namespace sylva {
 struct IntegratorSettings {
   int max_depth = 16;      // scattering events per path
   int rr_start_depth = 3;  // Russian roulette from this bounce on
-  // Fault injection for the golden suite's power tests (tests/scenes/test_golden.cpp), which
-  // prove that `sylva compare` catches a real regression. Never set in production renders.
-  bool fault_mis_weight_one = false;  // NEE and BSDF sampling both weighted 1 (double counts)
 };
 
-// A surface point as the integrator sees it (world space).
+// A surface point as the integrator sees it (world space), and what was hit: the instance (a
+// placed tree, target or ground), its prototype, the primitive (triangle or leaf quad index in the
+// prototype) and, for a leaf of a tree model, the stem carrying it (TreeLeaves::stem).
 struct SurfaceInteraction {
   Vec3 p;
   Vec3 ng;  // geometric normal, unit; for leaves the upper (adaxial) side
   Vec3 ns;  // shading normal, unit, on the same side as ng
   uint32_t material = 0;
   uint32_t instance = 0;
+  uint32_t prototype = 0;
+  uint32_t primitive = 0;
   bool leaf = false;
+  int32_t stem = -1;  // the leaf's stem in its tree model; -1 for triangles and leaves without one
 };
 
 // First-hit data for the AOVs.
@@ -44,6 +47,9 @@ class Integrator {
  public:
   Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
              IntegratorSettings settings);
+  // Test seam: the same integrator with deliberate faults (render/testing/faults.h).
+  Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment, IntegratorSettings settings,
+             const TransportFaults& faults);
 
   // Radiance along `ray` for the carried wavelengths. `first` (optional) receives first-hit data;
   // `rays` is incremented by the number of rays traced (closest-hit and shadow).
@@ -57,6 +63,7 @@ class Integrator {
   const EmbreeScene& embree_;
   const Environment& environment_;
   IntegratorSettings settings_;
+  TransportFaults faults_;
   std::vector<Mat3> normal_from_object_;  // per instance: inverse transpose of the linear part
 };
 

@@ -8,11 +8,29 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <fmt/core.h>
+
 #include <chrono>
 
 namespace sylva {
 
-Renderer::Renderer(const Scene& scene, RenderSettings settings) : scene_(scene), settings_(std::move(settings)) {
+Renderer::Renderer(const Scene& scene, const EmbreeScene& embree, RenderSettings settings)
+    : Renderer(scene, nullptr, &embree, std::move(settings), TransportFaults{}) {}
+
+Renderer::Renderer(const Scene& scene, RenderSettings settings)
+    : Renderer(scene, std::make_unique<EmbreeScene>(scene), nullptr, std::move(settings), TransportFaults{}) {}
+
+Renderer::Renderer(const Scene& scene, const EmbreeScene& embree, RenderSettings settings,
+                   const TransportFaults& faults)
+    : Renderer(scene, nullptr, &embree, std::move(settings), faults) {}
+
+Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const EmbreeScene* shared,
+                   RenderSettings settings, const TransportFaults& faults)
+    : scene_(scene),
+      settings_(std::move(settings)),
+      owned_embree_(std::move(owned)),
+      embree_(shared ? *shared : *owned_embree_) {
+  if (&embree_.scene() != &scene_) throw Error("the Embree scene was built from another scene");
   if (settings_.width <= 0 || settings_.height <= 0) throw Error("resolution must be positive");
   if (settings_.spp <= 0) throw Error("samples per pixel must be positive");
   if (settings_.bands.empty()) throw Error("no bands to render");
@@ -23,19 +41,25 @@ Renderer::Renderer(const Scene& scene, RenderSettings settings) : scene_(scene),
       weights_.push_back(&b.weights[c]);
       weight_integrals_.push_back(static_cast<float>(b.weights[c].integral()));
     }
-  embree_ = std::make_unique<EmbreeScene>(scene_, !settings_.fault_no_shadow_alpha);
+  if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
   environment_ = Environment(scene_.sun, scene_.sky);
-  integrator_ = std::make_unique<Integrator>(scene_, *embree_, environment_, settings_.integrator);
+  integrator_ = std::make_unique<Integrator>(scene_, embree_, environment_, settings_.integrator, faults);
   camera_ = Camera(scene_.camera, settings_.width, settings_.height);
   wavelengths_ = WavelengthSampler(settings_.bands);
 }
 
 Renderer::~Renderer() = default;
 
-const EmbreeStats& Renderer::embree_stats() const { return embree_->stats(); }
+Film Renderer::make_film() const { return make_film(image_region(), 0); }
 
-Film Renderer::make_film() const {
-  return Film(settings_.width, settings_.height, static_cast<int>(2 * channels_.size()));
+Film Renderer::make_film(const PixelRegion& window, uint32_t first_sample) const {
+  return Film(settings_.width, settings_.height, static_cast<int>(2 * channels_.size()), window, first_sample);
+}
+
+void Renderer::check_film(const Film& film) const {
+  if (film.width() != settings_.width || film.height() != settings_.height ||
+      film.channels() != static_cast<int>(2 * channels_.size()))
+    throw Error("film does not match the render settings");
 }
 
 void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample,
@@ -69,31 +93,44 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
 }
 
 RenderStats Renderer::render(Film& film) {
-  if (film.width() != settings_.width || film.height() != settings_.height ||
-      film.channels() != static_cast<int>(2 * channels_.size()))
-    throw Error("film does not match the render settings");
-  if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
+  return render(film, film.window(), SampleRange{film.first_sample(), static_cast<uint32_t>(settings_.spp)});
+}
+
+RenderStats Renderer::render(Film& film, const PixelRegion& region, SampleRange samples) {
+  check_film(film);
+  if (!film.window().contains(region))
+    throw Error(fmt::format("region [{}, {}) x [{}, {}) is not inside the film's window", region.x0, region.x1,
+                            region.y0, region.y1));
   RenderStats stats;
-  stats.embree = embree_->stats();
+  stats.embree = embree_.stats();
   const auto start = std::chrono::steady_clock::now();
-  const uint32_t target = static_cast<uint32_t>(settings_.spp);
+  const uint32_t target = samples.end;
+  // A pixel's next sample index; it renders [next, target).
+  const auto next_sample = [&](int x, int y) { return film.first_sample() + film.count(x, y); };
   uint64_t remaining = 0;
-  for (int y = 0; y < settings_.height; ++y)
-    for (int x = 0; x < settings_.width; ++x) remaining += target - std::min(target, film.count(x, y));
+  for (int y = region.y0; y < region.y1; ++y)
+    for (int x = region.x0; x < region.x1; ++x) {
+      const uint32_t next = next_sample(x, y);
+      if (next < samples.first)
+        throw Error(fmt::format("pixel ({}, {}) has samples up to {}, so samples from {} on cannot follow in order", x,
+                                y, next, samples.first));
+      remaining += target - std::min(target, next);
+    }
+  if (region.empty()) return stats;
 
   Progress progress("render", remaining, settings_.progress);
-  tbb::enumerable_thread_specific<uint64_t> rays(0), samples(0);
+  tbb::enumerable_thread_specific<uint64_t> rays(0), samples_added(0);
   std::atomic<bool> stopped{false};
   const int ts = settings_.tile_size;
-  const int tiles_x = (settings_.width + ts - 1) / ts, tiles_y = (settings_.height + ts - 1) / ts;
+  const int tiles_x = (region.width() + ts - 1) / ts, tiles_y = (region.height() + ts - 1) / ts;
   tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tiles_x * tiles_y, 1),
         [&](const tbb::blocked_range<int>& range) {
           for (int tile = range.begin(); tile != range.end(); ++tile) {
-            const int x0 = (tile % tiles_x) * ts, y0 = (tile / tiles_x) * ts;
-            const int x1 = std::min(x0 + ts, settings_.width), y1 = std::min(y0 + ts, settings_.height);
+            const int x0 = region.x0 + (tile % tiles_x) * ts, y0 = region.y0 + (tile / tiles_x) * ts;
+            const int x1 = std::min(x0 + ts, region.x1), y1 = std::min(y0 + ts, region.y1);
             uint64_t& tile_rays = rays.local();
             uint64_t added = 0;
             for (int y = y0; y < y1; ++y)
@@ -101,16 +138,16 @@ RenderStats Renderer::render(Film& film) {
                 // Stop between pixels; each pixel keeps whole samples, in order.
                 if (settings_.cancel && settings_.cancel->load(std::memory_order_relaxed)) {
                   stopped = true;
-                  samples.local() += added;
+                  samples_added.local() += added;
                   progress.add(added);
                   return;
                 }
-                const uint32_t have = film.count(x, y);
-                if (have >= target) continue;
-                render_pixel(film, x, y, have, target, tile_rays);
-                added += target - have;
+                const uint32_t next = next_sample(x, y);
+                if (next >= target) continue;
+                render_pixel(film, x, y, next, target, tile_rays);
+                added += target - next;
               }
-            samples.local() += added;
+            samples_added.local() += added;
             progress.add(added);
           }
         },
@@ -119,7 +156,7 @@ RenderStats Renderer::render(Film& film) {
   progress.finish();
   stats.interrupted = stopped.load();
   stats.rays = rays.combine(std::plus<>());
-  stats.samples = samples.combine(std::plus<>());
+  stats.samples = samples_added.combine(std::plus<>());
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
@@ -141,37 +178,40 @@ Image Renderer::make_image(const Film& film) const {
   add("N.Z", PixelType::Half);
   add("id.instance", PixelType::UInt);
   add("id.object", PixelType::UInt);
-  Image image = sylva::make_image(film.width(), film.height(), names);
+  check_film(film);
+  const PixelRegion& window = film.window();
+  Image image = sylva::make_image(window.width(), window.height(), names);
   image.types = types;
   const int z = static_cast<int>(3 * nc);
   const Vec3 forward = glm::normalize(scene_.camera.target - scene_.camera.position);
 
   tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
   arena.execute([&] {
-    tbb::parallel_for(0, film.height(), [&](int y) {
-      uint64_t rays = 0;
-      for (int x = 0; x < film.width(); ++x) {
+    tbb::parallel_for(window.y0, window.y1, [&](int y) {
+      const int iy = y - window.y0;
+      for (int x = window.x0; x < window.x1; ++x) {
+        const int ix = x - window.x0;
         for (size_t c = 0; c < nc; ++c) {
-          image.at(x, y, static_cast<int>(c)) = static_cast<float>(film.mean(x, y, static_cast<int>(c)));
-          image.at(x, y, static_cast<int>(nc + c)) =
+          image.at(ix, iy, static_cast<int>(c)) = static_cast<float>(film.mean(x, y, static_cast<int>(c)));
+          image.at(ix, iy, static_cast<int>(nc + c)) =
               static_cast<float>(film.variance_of_mean(x, y, static_cast<int>(c)));
-          image.at(x, y, static_cast<int>(2 * nc + c)) = static_cast<float>(film.mean(x, y, static_cast<int>(nc + c)));
+          image.at(ix, iy, static_cast<int>(2 * nc + c)) =
+              static_cast<float>(film.mean(x, y, static_cast<int>(nc + c)));
         }
         // First-hit AOVs through the pixel centre (pinhole ray: labels are not blurred).
         const Ray ray = camera_.generate_ray(Vec2(x + 0.5f, y + 0.5f), Vec2(0.5f));
         RayHit hit;
-        ++rays;
-        if (embree_->intersect(ray, &hit)) {
+        if (embree_.intersect(ray, &hit)) {
           const SurfaceInteraction si = integrator_->interaction(ray, hit);
           const Vec3 n = glm::dot(si.ng, ray.direction) > 0 ? -si.ng : si.ng;
-          image.at(x, y, z) = hit.t * glm::dot(ray.direction, forward);
-          image.at(x, y, z + 1) = n.x;
-          image.at(x, y, z + 2) = n.y;
-          image.at(x, y, z + 3) = n.z;
-          image.at(x, y, z + 4) = static_cast<float>(hit.instance + 1);
-          image.at(x, y, z + 5) = static_cast<float>(scene_.instances[hit.instance].object_id);
+          image.at(ix, iy, z) = hit.t * glm::dot(ray.direction, forward);
+          image.at(ix, iy, z + 1) = n.x;
+          image.at(ix, iy, z + 2) = n.y;
+          image.at(ix, iy, z + 3) = n.z;
+          image.at(ix, iy, z + 4) = static_cast<float>(hit.instance + 1);
+          image.at(ix, iy, z + 5) = static_cast<float>(scene_.instances[hit.instance].object_id);
         } else {
-          image.at(x, y, z) = 1e10f;
+          image.at(ix, iy, z) = 1e10f;
         }
       }
     });

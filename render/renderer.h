@@ -1,10 +1,12 @@
 #pragma once
 // Rendering a Scene into a Film, and a Film into an Image (EXR channels).
 //
-// Work is split into square tiles rendered in parallel with TBB; every sample's random numbers
-// come from a PCG32 stream hashed from (seed, pixel, sample index), and each pixel's samples are
-// accumulated in order by one thread, so the result is bit-identical at any thread count and
-// whether or not the render was interrupted and resumed.
+// A render covers a region of the image and a range of sample indices; work is split into square
+// tiles rendered in parallel with TBB. Every sample's random numbers come from a PCG32 stream hashed
+// from (seed, pixel, sample index), and each pixel's samples are accumulated in order by one thread
+// (render/film.h), so the result is bit-identical at any thread count, whether or not the render
+// was interrupted and resumed, and when it is split into regions or sample ranges whose films are
+// merged (Film::merge).
 
 #include "core/band.h"
 #include "core/image.h"
@@ -28,8 +30,7 @@ struct RenderSettings {
   int tile_size = 16;
   std::vector<Band> bands;  // at least one
   IntegratorSettings integrator;
-  bool fault_no_shadow_alpha = false;  // fault injection (golden power tests): see EmbreeScene
-  bool progress = true;                // progress bar on stderr (only when stderr is a terminal)
+  bool progress = true;  // progress bar on stderr (only when stderr is a terminal)
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;
 };
@@ -44,29 +45,56 @@ struct RenderStats {
 
 class Renderer {
  public:
-  // Builds the acceleration structures. `scene` must outlive the renderer.
+  // Renders `scene` through `embree`, built from that same scene by the caller and shared with any
+  // other pass over it. Both must outlive the renderer.
+  Renderer(const Scene& scene, const EmbreeScene& embree, RenderSettings settings);
+  // Convenience for a single pass: builds (and owns) the Embree scene. `scene` must outlive it.
   Renderer(const Scene& scene, RenderSettings settings);
+  // Test seam: deliberate transport faults in the integrator (render/testing/faults.h); build
+  // `embree` with the same faults to include the occlusion-filter fault.
+  Renderer(const Scene& scene, const EmbreeScene& embree, RenderSettings settings, const TransportFaults& faults);
   ~Renderer();
 
-  // A film sized and laid out for these settings.
+  // The whole image, settings.width × settings.height.
+  PixelRegion image_region() const { return PixelRegion::whole(settings_.width, settings_.height); }
+  // A film for the whole image, samples from 0 on.
   Film make_film() const;
-  // Adds samples to every pixel until it has settings.spp (or cancel is set).
+  // A film for `window` (inside the image) holding samples from `first_sample` on: a tile or a
+  // sample chunk of a split render, merged later with Film::merge.
+  Film make_film(const PixelRegion& window, uint32_t first_sample) const;
+
+  // Adds samples to every pixel of the film's window until it has settings.spp (or cancel is set).
+  // Equivalent to render(film, film.window(), {film.first_sample(), settings.spp}).
   RenderStats render(Film& film);
-  // Channels: each band's channels (mean radiance), "var.<C>" (variance of the mean), the albedo
-  // AOV per band channel ("albedo.<C>"), and the first-hit AOVs from a ray through each pixel
-  // centre: "Z" (camera-space depth in m; 1e10 for the sky), "N.X/N.Y/N.Z" (world geometric
-  // normal facing the camera), "id.instance" (instance index + 1, 0 = sky) and "id.object".
+  // Adds samples of indices in `samples` to every pixel of `region` (inside the film's window):
+  // each pixel continues from its next sample, first_sample() + count(x, y) — samples it already
+  // has are not rendered again — up to samples.end. Throws sylva::Error if a pixel's next sample
+  // lies before samples.first (a gap: its samples would not be in index order). If cancel is set,
+  // stops between pixels; every pixel keeps whole samples, in order, so the film can be resumed.
+  RenderStats render(Film& film, const PixelRegion& region, SampleRange samples);
+
+  // An image of the film's window (the whole image for make_film()). Channels: each band's
+  // channels (mean radiance), "var.<C>" (variance of the mean), the albedo AOV per band channel
+  // ("albedo.<C>"), and the first-hit AOVs from a ray through each pixel centre: "Z" (camera-space
+  // depth in m; 1e10 for the sky), "N.X/N.Y/N.Z" (world geometric normal facing the camera),
+  // "id.instance" (instance index + 1, 0 = sky) and "id.object".
   Image make_image(const Film& film) const;
 
-  const EmbreeStats& embree_stats() const;
+  const RenderSettings& settings() const { return settings_; }
+  const EmbreeScene& embree() const { return embree_; }
+  const EmbreeStats& embree_stats() const { return embree_.stats(); }
   const std::vector<std::string>& radiance_channels() const { return channels_; }
 
  private:
+  Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const EmbreeScene* shared, RenderSettings settings,
+           const TransportFaults& faults);
+  void check_film(const Film& film) const;
   void render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample, uint64_t& rays) const;
 
   const Scene& scene_;
   RenderSettings settings_;
-  std::unique_ptr<EmbreeScene> embree_;
+  std::unique_ptr<EmbreeScene> owned_embree_;  // only for the convenience constructor
+  const EmbreeScene& embree_;
   Environment environment_;
   std::unique_ptr<Integrator> integrator_;
   Camera camera_;

@@ -2,10 +2,10 @@
 
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/prospect.h"
 #include "core/registry.h"
 #include "core/rgb_spectrum.h"
-#include "core/rng.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitives.h"
 #include "geometry/trees/tree_mesher.h"
@@ -27,13 +27,7 @@ const char* const kDefaultSceneText =
 #include "scenes/default_scene.inc"
     ;
 
-std::string hex64(uint64_t h) { return fmt::format("{:016x}", h); }
-
-uint64_t hash_text(std::string_view text) {
-  uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a, then mixed
-  for (unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
-  return mix64(h);
-}
+uint64_t hash_text(std::string_view text) { return mix64(fnv1a64(text)); }
 
 // Builds a SceneFile from the document's sections. Each section is parsed by its own small function
 // (the table in parse()); materials, primitives and sky models are chosen through registries, and
@@ -328,7 +322,7 @@ class SceneParser {
   }
 
   // The leaf quads of material slot `slot` (the last slot also takes every slot beyond it), in
-  // order. `quads` were meshed from `leaves`, one quad per leaf.
+  // order, with their stem ids. `quads` were meshed from `leaves`, one quad per leaf.
   static LeafQuads leaves_in_slot(const LeafQuads& quads, const TreeLeaves& leaves, size_t slot, size_t last) {
     LeafQuads out;
     for (size_t i = 0; i < quads.size(); ++i) {
@@ -337,6 +331,7 @@ class SceneParser {
       out.corners.insert(out.corners.end(), quads.corners.begin() + static_cast<ptrdiff_t>(4 * i),
                          quads.corners.begin() + static_cast<ptrdiff_t>(4 * i + 4));
       out.shapes.push_back(quads.shapes[i]);
+      if (!quads.stem.empty()) out.stem.push_back(quads.stem[i]);
     }
     return out;
   }

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "geometry/trees/tree_mesher.h"
+#include "scenes/species/lsystem_file.h"
 #include "scenes/species/treemaker_file.h"
 #include "scenes/toml_reader.h"
 
@@ -124,10 +125,22 @@ struct SpeciesFormat {
   std::string_view extension;
   Species (*parse)(const std::string& text, const std::filesystem::path& file);
 };
+Species parse_lsys(const std::string& text, const std::filesystem::path& file) {
+  LSystemSpecies l = parse_lsystem(text, file);
+  return Species{std::move(l.name), file, std::move(l.system), {}};
+}
+
+Species parse_grammar(const std::string& text, const std::filesystem::path& file) {
+  AspenGrammarSpecies a = parse_aspen_grammar(text, file);
+  return Species{std::move(a.name), file, a.params, {}};
+}
+
 constexpr SpeciesFormat kSpeciesFormats[] = {
-    {".toml", parse_toml},
-    {".xml", parse_arbaro_xml},
-    {".tmpl", parse_treemaker},
+    {".toml", parse_toml},        // Sylva TOML, any registered model
+    {".xml", parse_arbaro_xml},   // Arbaro XML (Weber-Penn)
+    {".lsys", parse_lsys},        // L-systems (docs/lsystems.md)
+    {".grammar", parse_grammar},  // the aspen grammar (docs/lsystems.md)
+    {".tmpl", parse_treemaker},   // TREE-MAKER templates (docs/treemaker.md)
 };
 
 std::string lower(std::string s) {
@@ -167,6 +180,8 @@ TreeModel make_species_model(const Species& species, uint64_t seed, const TreeOp
 TreeMesh make_species_mesh(const Species& species, uint64_t seed, const TreeOptions& options) {
   TreeMeshOptions mesh_options;
   mesh_options.quality = options.quality;
+  // The aspen grammar's <linear_pt> is an 8-point circle (thesis Ch. 6).
+  if (std::holds_alternative<AspenGrammarParams>(species.model)) mesh_options.radial_segments = {8, 8, 8, 8};
   return make_tree_mesh(make_species_model(species, seed, options), mesh_options);
 }
 

@@ -149,6 +149,7 @@ TreeMesh make_tree_mesh(const TreeModel& model, const TreeMeshOptions& options) 
     LeafQuads& q = mesh.leaves;
     q.corners.reserve(4 * leaves.size());
     q.shapes.reserve(leaves.size());
+    q.stem = leaves.stem;
     for (size_t i = 0; i < leaves.size(); ++i) {
       const Frame& f = leaves.frames[i];
       // u runs along cross(blade, normal) so the corners are counter-clockwise seen from frames.y.

@@ -22,7 +22,8 @@ struct TreeMeshOptions {
 // parallel-transported along the stem, so a clone continues its twin's ring at the split point
 // without twisting (§4.2). Trunk lobes (§4.4) shape the ring radii. Normals follow the surface
 // slope; bark UVs: u = around (0..1, seam duplicated), v = distance along the stem divided by the
-// stem's base circumference. Leaves become quads in the LeafQuads convention of geometry/mesh.h.
+// stem's base circumference. Leaves become quads in the LeafQuads convention of geometry/mesh.h,
+// in the model's leaf order, each keeping the index of its stem (LeafQuads::stem).
 TreeMesh make_tree_mesh(const TreeModel& model, const TreeMeshOptions& options = {});
 
 // Ring vertex count for a stem level under `options`.

@@ -23,9 +23,13 @@ struct TreeStems {
   std::vector<float> offset_m;       // position of the base along the parent, from its base
   std::vector<uint8_t> lobes;        // Weber & Penn §4.4 lobes; only the trunk has them
   std::vector<float> lobe_depth;
+  // Empty, or one flag per stem: 1 marks a dead branch (the aspen grammar, seed 002 Ch. 6), which
+  // a renderer may shade darker.
+  std::vector<uint8_t> dead;
 
   size_t size() const { return level.size(); }
   bool is_clone(size_t i) const { return clone_of[i] >= 0; }
+  bool is_dead(size_t i) const { return !dead.empty() && dead[i] != 0; }
 };
 
 // Cross-sections. `frames[k].z` is the stem direction: the spawn direction at a stem's first

@@ -7,6 +7,8 @@
 // Adding a model = its files + one entry in `TreeModelParams` below (and, for a file format of its
 // own, one line in scenes/species.cpp's format table).
 
+#include "geometry/trees/lsystem/aspen_grammar.h"
+#include "geometry/trees/lsystem/lsystem.h"
 #include "geometry/trees/tree_model.h"
 #include "geometry/trees/treemaker/treemaker.h"
 #include "geometry/trees/weber_penn/weber_penn.h"
@@ -17,7 +19,7 @@
 namespace sylva {
 
 // The registered tree models.
-using TreeModelParams = std::variant<WeberPennParams, TreeMakerTemplate>;
+using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate>;
 
 // Generates the tree structure for a seed. Pure: the same inputs give a bit-identical model.
 inline TreeModel make_tree(const TreeModelParams& params, uint64_t seed, const TreeOptions& options = {}) {

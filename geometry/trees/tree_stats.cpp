@@ -1,34 +1,12 @@
 #include "geometry/trees/tree_stats.h"
 
-#include "core/rng.h"
+#include "core/hash.h"
 
 #include <fmt/core.h>
-
-#include <cstring>
 
 namespace sylva {
 
 namespace {
-
-struct Hasher {
-  uint64_t h = 0x5139a7eull;
-  void add(const void* data, size_t bytes) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    size_t i = 0;
-    for (; i + 8 <= bytes; i += 8) {
-      uint64_t w;
-      std::memcpy(&w, p + i, 8);
-      h = mix64(h ^ w);
-    }
-    uint64_t tail = bytes;
-    for (; i < bytes; ++i) tail = (tail << 8) | p[i];
-    h = mix64(h ^ tail);
-  }
-  template <typename T>
-  void add_vector(const std::vector<T>& v) {
-    add(v.data(), v.size() * sizeof(T));
-  }
-};
 
 std::string json_string(const std::string& s) {
   std::string out = "\"";
@@ -52,14 +30,14 @@ std::string json_ints(const std::vector<int>& v) {
 }  // namespace
 
 uint64_t hash_tree_mesh(const TreeMesh& mesh) {
-  Hasher h;
+  WordHash64 h;
   h.add_vector(mesh.stems.positions);
   h.add_vector(mesh.stems.normals);
   h.add_vector(mesh.stems.uvs);
   h.add_vector(mesh.stems.triangles);
   h.add_vector(mesh.leaves.corners);
   h.add_vector(mesh.leaves.shapes);
-  return h.h;
+  return h.value();
 }
 
 TreeStats compute_tree_stats(const TreeModel& model, const TreeMesh& mesh) {
@@ -100,7 +78,7 @@ std::string tree_stats_json(const TreeStats& s, const std::string& species, uint
   out += fmt::format("  \"bbox_max\": [{:.6f}, {:.6f}, {:.6f}],\n", s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z);
   out += fmt::format("  \"leaf_area_m2\": {:.6f},\n", s.leaf_area_m2);
   if (generation_ms) out += fmt::format("  \"generation_ms\": {:.3f},\n", *generation_ms);
-  out += fmt::format("  \"mesh_hash\": \"{:016x}\"\n", s.mesh_hash);
+  out += fmt::format("  \"mesh_hash\": \"{}\"\n", hex64(s.mesh_hash));
   return out + "}\n";
 }
 

@@ -25,7 +25,8 @@ struct TreeStats {
   uint64_t mesh_hash = 0;
 };
 
-// Hash of the mesh's exact bits (positions, normals, uvs, triangles, leaf corners and shapes).
+// Hash of the mesh's exact bits (positions, normals, uvs, triangles, leaf corners and shapes). The
+// leaves' stem indices are bookkeeping, not geometry, and are left out (golden/geometry hashes).
 uint64_t hash_tree_mesh(const TreeMesh& mesh);
 
 TreeStats compute_tree_stats(const TreeModel& model, const TreeMesh& mesh);

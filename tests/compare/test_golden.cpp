@@ -81,9 +81,8 @@ TEST(GoldenPower, SkyRadianceTimes1_02Fails) {
 
 TEST(GoldenPower, BrokenMisWeightFails) {
   for (const char* name : {"ground_sky", "instancing"})
-    expect_rejected(name, "broken MIS weight", check_golden_case(find_case(name), [](RenderSettings& s) {
-                      s.integrator.fault_mis_weight_one = true;
-                    }));
+    expect_rejected(name, "broken MIS weight",
+                    check_golden_case(find_case(name), {}, {}, TransportFaults{.mis_weight_one = true}));
 }
 
 TEST(GoldenPower, OnePixelCameraShiftFails) {
@@ -101,9 +100,8 @@ TEST(GoldenPower, OnePixelCameraShiftFails) {
 }
 
 TEST(GoldenPower, MissingAlphaInShadowRaysFails) {
-  expect_rejected(
-      "alpha_shadows", "no alpha in shadow rays",
-      check_golden_case(find_case("alpha_shadows"), [](RenderSettings& s) { s.fault_no_shadow_alpha = true; }));
+  expect_rejected("alpha_shadows", "no alpha in shadow rays",
+                  check_golden_case(find_case("alpha_shadows"), {}, {}, TransportFaults{.no_shadow_alpha = true}));
 }
 
 TEST(GoldenPower, ADifferentSeedAlonePasses) {

@@ -1,12 +1,13 @@
-// Statistical image comparison (core/image_compare.h) and its report (core/compare_report.h).
+// Statistical image comparison (compare/image_compare.h) and its report (compare/compare_report.h).
 // The power tests draw synthetic Monte Carlo estimates: a pixel mean with spp samples of per-sample
 // standard deviation σ is Gaussian, mean μ, variance σ²/spp, and its estimated variance is
 // σ²/spp · χ²(spp−1)/(spp−1). Fixed seeds; the thresholds leave a wide statistical margin.
 
 #include "compare/compare_report.h"
+#include "compare/image_compare.h"
 #include "core/error.h"
 #include "core/image.h"
-#include "compare/image_compare.h"
+#include "tests/support/atomic_temporaries.h"
 
 #include <gtest/gtest.h>
 
@@ -358,8 +359,7 @@ TEST(CompareReport, WritesFilesAndListsFailuresFirst) {
   ASSERT_NE(nir_item, std::string::npos);
   ASSERT_NE(rgb_item, std::string::npos);
   EXPECT_LT(nir_item, rgb_item);
-  for (const auto& e : fs::directory_iterator(dir))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  EXPECT_TRUE(test::atomic_temporaries_in(dir).empty());
   fs::remove_all(dir);
 }
 

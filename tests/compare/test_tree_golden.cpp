@@ -1,6 +1,6 @@
 // Geometry goldens: exact summaries (counts, bounds, leaf area, mesh hash) of the shipped species
 // at fixed seeds, and `sylva tree` end to end. Regenerate the goldens after an intended change
-// with `SYLVA_UPDATE_GOLDEN=1 ./test_scenes --gtest_filter='*TreeGolden*'` (golden/README-geometry.md).
+// with `SYLVA_UPDATE_GOLDEN=1 ./test_compare --gtest_filter='*TreeGolden*'` (golden/README-geometry.md).
 
 #include "geometry/trees/tree_stats.h"
 #include "scenes/species.h"
@@ -26,6 +26,14 @@ std::string read_text(const std::filesystem::path& p) {
   return ss.str();
 }
 
+// The golden's base name: the file's stem, plus its extension for the formats that share a stem
+// with a .toml species (quaking_aspen.grammar -> quaking_aspen_grammar).
+std::string golden_name(const std::filesystem::path& file) {
+  const std::string ext = file.extension().string();
+  if (ext == ".toml" || ext == ".xml") return file.stem().string();
+  return file.stem().string() + "_" + ext.substr(1);
+}
+
 struct GoldenCase {
   const char* file;
   uint64_t seed;
@@ -41,7 +49,7 @@ TEST_P(TreeGolden, MatchesSummary) {
   const TreeMesh mesh = make_species_mesh(species, c.seed);
   const std::string json = tree_stats_json(compute_tree_stats(model, mesh), species.name, c.seed);
   const std::filesystem::path golden =
-      kSource / "golden" / "geometry" / (species_file.stem().string() + "_seed" + std::to_string(c.seed) + ".json");
+      kSource / "golden" / "geometry" / (golden_name(species_file) + "_seed" + std::to_string(c.seed) + ".json");
   const char* update = std::getenv("SYLVA_UPDATE_GOLDEN");
   if (update != nullptr && std::string(update) == "1") {
     std::ofstream(golden, std::ios::binary) << json;
@@ -55,9 +63,13 @@ INSTANTIATE_TEST_SUITE_P(Species, TreeGolden,
                          ::testing::Values(GoldenCase{"quaking_aspen.toml", 1}, GoldenCase{"quaking_aspen.toml", 2},
                                            GoldenCase{"black_tupelo.toml", 1}, GoldenCase{"weeping_willow.toml", 1},
                                            GoldenCase{"california_black_oak.toml", 1},
-                                           GoldenCase{"quaking_aspen_arbaro.xml", 1}, GoldenCase{"dogwood.tmpl", 1}),
+                                           GoldenCase{"quaking_aspen_arbaro.xml", 1},
+                                           GoldenCase{"quaking_aspen.grammar", 1},
+                                           GoldenCase{"quaking_aspen.grammar", 2},
+                                           GoldenCase{"quaking_aspen.grammar", 3}, GoldenCase{"abop_bush.lsys", 1},
+                                           GoldenCase{"abop_stochastic.lsys", 1}, GoldenCase{"dogwood.tmpl", 1}),
                          [](const ::testing::TestParamInfo<GoldenCase>& info) {
-                           std::string name = std::filesystem::path(info.param.file).stem().string();
+                           std::string name = golden_name(info.param.file);
                            return name + "_seed" + std::to_string(info.param.seed);
                          });
 

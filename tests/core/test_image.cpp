@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 #include "core/image.h"
+#include "tests/support/atomic_temporaries.h"
+#include "tests/support/temp_dir.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -15,21 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test, removed afterwards.
-class ImageFiles : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("sylva_test_image_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add);
-    fs::remove_all(dir_);
-  }
-  fs::path dir_;
-};
+using ImageFiles = test::TempDirTest;
 
 Image sample_image() {
   Image image = make_image(5, 3, {"R", "G", "B", "nir.Y", "Z"});
@@ -211,8 +199,7 @@ TEST_F(ImageFiles, FailedWriteThrowsAndLeavesNoPartialFile) {
   fs::create_directories(target / "child");
   EXPECT_THROW(write_exr(target, image), Error);
   EXPECT_TRUE(fs::is_directory(target));
-  for (const auto& e : fs::directory_iterator(dir_))
-    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
 
   // An inconsistent image is refused before anything is written.
   Image broken = make_image(2, 2, {"R"});

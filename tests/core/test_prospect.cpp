@@ -13,7 +13,8 @@
 namespace sylva {
 namespace {
 
-const std::string kShared = SYLVA_SHARED_DIR;
+// Reference tables copied into the repository (tests/data/README.md names their sources).
+const std::string kTestData = std::string(SYLVA_SOURCE_DIR) + "/tests/data";
 
 std::vector<std::string> split(const std::string& line, char sep) {
   std::vector<std::string> out;
@@ -48,7 +49,7 @@ struct ReferenceRow {
 };
 
 std::vector<ReferenceRow> read_reference() {
-  std::ifstream in(kShared + "/data/prospect/prospect_reference_values.csv");
+  std::ifstream in(kTestData + "/prospect/prospect_reference_values.csv");
   EXPECT_TRUE(in);
   std::string line;
   std::vector<std::string> header;
@@ -138,7 +139,7 @@ TEST(Prospect, MatchesReferenceProspectD) {
 
 TEST(Prospect, PlateModelMatchesProspect5Reference) {
   // prospect5_spectra.txt columns: n, k_Cab, k_Car, k_Brown, k_Cw, k_Cm (no header, 400..2500 nm).
-  const auto tab = read_numbers(kShared + "/data/prospect/prospect5_spectra.txt");
+  const auto tab = read_numbers(kTestData + "/prospect/prospect5_spectra.txt");
   ASSERT_EQ(tab.size(), 2101u);
   const auto rows = read_reference();
   int checked = 0;
@@ -163,9 +164,9 @@ TEST(Prospect, PlateModelMatchesProspect5Reference) {
 TEST(Prospect, PlateModelMatchesProspectProMatlabOracle) {
   // Official Matlab PROSPECT-PRO: N 1.2, Cab 30, Car 10, Ant 1, Cbrown 0, Cw 0.015, Cm 0.009,
   // Prot 0.001, CBC 0.009 (the oracle run includes all three dry-matter terms).
-  const auto tab = read_numbers(kShared + "/data/prospect/dataSpec_PRO.txt");
+  const auto tab = read_numbers(kTestData + "/prospect/dataSpec_PRO.txt");
   const auto ref =
-      read_numbers(kShared + "/data/prospect/prospect_pro_matlab_reference_N1.2_Cab30_Car10_Ant1_Cw0.015_Cm0.009.txt");
+      read_numbers(kTestData + "/prospect/prospect_pro_matlab_reference_N1.2_Cab30_Car10_Ant1_Cw0.015_Cm0.009.txt");
   ASSERT_EQ(tab.size(), 2101u);
   ASSERT_EQ(ref.size(), 2101u);
   const double N = 1.2;

@@ -1,6 +1,8 @@
 #include "geometry/mesh_io.h"
 
 #include "core/error.h"
+#include "tests/support/atomic_temporaries.h"
+#include "tests/support/temp_dir.h"
 
 #include <gtest/gtest.h>
 
@@ -17,32 +19,19 @@
 #include <tuple>
 #include <vector>
 
-#include <unistd.h>
-
 namespace sylva {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh directory per test.
-class MeshIo : public ::testing::Test {
+class MeshIo : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("sylva_mesh_io_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   fs::path write(const std::string& name, const std::string& bytes) const {
     const fs::path p = dir_ / name;
     std::ofstream(p, std::ios::binary) << bytes;
     return p;
   }
   fs::path path(const std::string& name) const { return dir_ / name; }
-
-  fs::path dir_;
 };
 
 std::string read_all(const fs::path& p) {
@@ -461,7 +450,7 @@ TEST_F(MeshIo, TreeMeshObjRoundTrip) {
   const TreeMesh tree = make_tree();
   const fs::path file = path("tree.obj");
   write_obj(file, tree);
-  EXPECT_FALSE(fs::exists(path("tree.obj.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
   const std::string text = read_all(file);
   EXPECT_NE(text.find("g stems\n"), std::string::npos);
   EXPECT_NE(text.find("g leaves_" + std::string(leaf_shape_name(LeafShape::Oval)) + "\nusemtl leaves_" +
@@ -481,7 +470,7 @@ TEST_F(MeshIo, TreeMeshPlyRoundTrip) {
   const TreeMesh tree = make_tree();
   const fs::path file = path("tree.ply");
   write_ply(file, tree);
-  EXPECT_FALSE(fs::exists(path("tree.ply.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
   const std::string bytes = read_all(file);
   EXPECT_NE(bytes.find("format binary_little_endian 1.0\n"), std::string::npos);
   EXPECT_NE(bytes.find("property list uchar int vertex_indices\nproperty uchar leaf_shape\n"), std::string::npos);
@@ -543,7 +532,7 @@ TEST_F(MeshIo, WritesAreAtomic) {
   bad.stems.triangles.push_back({0, 1, 99});
   EXPECT_THROW(write_obj(path("bad.obj"), bad), Error);
   EXPECT_FALSE(fs::exists(path("bad.obj")));
-  EXPECT_FALSE(fs::exists(path("bad.obj.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
   TreeMesh nan_leaf = tree;
   nan_leaf.leaves.corners[2].y = std::nanf("");
   EXPECT_THROW(write_ply(path("nan.ply"), nan_leaf), Error);
@@ -552,7 +541,7 @@ TEST_F(MeshIo, WritesAreAtomic) {
   write("over.obj", "old");
   write_obj(path("over.obj"), tree);
   EXPECT_EQ(read_mesh(path("over.obj")).triangles.size(), 18u);
-  EXPECT_FALSE(fs::exists(path("over.obj.tmp")));
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_).empty());
 }
 
 // ------------------------------------------------------------------------------- robustness

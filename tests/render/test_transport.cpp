@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "geometry/primitives.h"
 #include "render/renderer.h"
+#include "tests/render/render_test_scenes.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -15,7 +16,10 @@
 namespace sylva {
 namespace {
 
-std::vector<Band> test_bands() { return {resolve_band("rgb"), resolve_band("nir")}; }
+using test::same_bits;
+using test::small_forest_scene;
+using test::test_bands;
+using test::test_settings;
 
 Scene furnace_scene() {
   Scene s;
@@ -45,17 +49,6 @@ ChannelStats pixel_mean(const Image& img, const std::string& channel) {
       var += img.at(x, y, v);
     }
   return {sum / n, std::sqrt(var) / n};
-}
-
-RenderSettings test_settings(int w, int h, int spp, int max_depth = 64) {
-  RenderSettings settings;
-  settings.width = w;
-  settings.height = h;
-  settings.spp = spp;
-  settings.bands = test_bands();
-  settings.progress = false;
-  settings.integrator.max_depth = max_depth;
-  return settings;
 }
 
 Image render_image(const Scene& scene, int w, int h, int spp, int threads = 0, int max_depth = 64) {
@@ -156,30 +149,6 @@ TEST(Transport, GroundBelowTheHorizonLightsAPlaneFromBelow) {
   ground *= 0.25f * kInvPi;
   expect_channels(
       img, [&](const DenseSpectrum& w) { return 0.8 * (ground * w).integral(); }, "ground-lit");
-}
-
-Scene small_forest_scene() {
-  Scene s;
-  s.camera.position = {0, -5, 1.5f};
-  s.camera.target = {0, 0, 1.0f};
-  s.sun.elevation_deg = 35;
-  s.sun.azimuth_deg = 160;
-  const uint32_t soil = s.add_material("soil", make_diffuse("soil", DenseSpectrum::constant(0.2f)));
-  const uint32_t leaf =
-      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
-  s.instances.push_back({s.add_prototype(Prototype{"ground", make_plane(100, 100), soil, {}, 0}), Mat4(1.0f), 0});
-  Prototype crown;
-  crown.leaves = make_leaf_cloud(LeafCloudParams{}, 5);
-  crown.leaf_material = leaf;
-  const uint32_t c = s.add_prototype(crown);
-  s.instances.push_back({c, glm::translate(Mat4(1.0f), Vec3(-1, 0, 1.8f)), 1});
-  s.instances.push_back({c, glm::translate(Mat4(1.0f), Vec3(1.5f, 2, 2.0f)), 1});
-  return s;
-}
-
-bool same_bits(const Image& a, const Image& b) {
-  return a.pixels.size() == b.pixels.size() &&
-         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
 }
 
 TEST(Transport, BitIdenticalAtAnyThreadCount) {

@@ -271,7 +271,7 @@ TEST_P(TreeMakerGolden, MatchesSummary) {
   const TreeMesh mesh = make_tree_mesh(model);
   const std::string json = tree_stats_json(compute_tree_stats(model, mesh), file.stem().string(), c.seed);
   const std::filesystem::path golden = std::filesystem::path(SYLVA_SOURCE_DIR) / "golden" / "geometry" /
-                                       (file.stem().string() + "_seed" + std::to_string(c.seed) + ".json");
+                                       (file.stem().string() + "_tmpl_seed" + std::to_string(c.seed) + ".json");
   const char* update = std::getenv("SYLVA_UPDATE_GOLDEN");
   if (update != nullptr && std::string(update) == "1") {
     std::ofstream(golden, std::ios::binary) << json;

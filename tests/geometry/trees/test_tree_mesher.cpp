@@ -1,4 +1,4 @@
-// Tree meshing (geometry/tree_mesher.h): closed tubes, normals, UVs, leaf quads.
+// Tree meshing (geometry/trees/tree_mesher.h): closed tubes, normals, UVs, leaf quads.
 
 #include "geometry/trees/tree_mesher.h"
 #include "geometry/trees/weber_penn/weber_penn.h"
@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <set>
 #include <tuple>
 
 namespace sylva {
@@ -194,6 +195,19 @@ TEST(TreeMesher, LeafQuadsFollowTheLeafFrame) {
   TreeMeshOptions no_leaves;
   no_leaves.leaves = false;
   EXPECT_EQ(make_tree_mesh(m, no_leaves).leaves.size(), 0u);
+}
+
+TEST(TreeMesher, LeafQuadsKeepTheirStem) {
+  const TreeModel model = make_weber_penn_tree(test::quaking_aspen(), 7);
+  const TreeMesh mesh = make_tree_mesh(model);
+  ASSERT_GT(model.leaves.size(), 100u);
+  ASSERT_EQ(mesh.leaves.stem.size(), mesh.leaves.size());
+  EXPECT_EQ(mesh.leaves.stem, model.leaves.stem);
+  // Leaves sit on many different stems, every one a real stem of the model.
+  std::set<int32_t> stems(mesh.leaves.stem.begin(), mesh.leaves.stem.end());
+  EXPECT_GT(stems.size(), 10u);
+  EXPECT_GE(*stems.begin(), 0);
+  EXPECT_LT(*stems.rbegin(), static_cast<int32_t>(model.stems.size()));
 }
 
 }  // namespace
