@@ -13,6 +13,7 @@
 #include "geometry/trees/treemaker/treemaker.h"
 #include "geometry/trees/weber_penn/weber_penn.h"
 
+#include <concepts>
 #include <cstdint>
 #include <variant>
 
@@ -22,8 +23,14 @@ namespace sylva {
 using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate>;
 
 // Generates the tree structure for a seed. Pure: the same inputs give a bit-identical model.
-inline TreeModel make_tree(const TreeModelParams& params, uint64_t seed, const TreeOptions& options = {}) {
-  return std::visit([&](const auto& p) { return make_tree(p, seed, options); }, params);
+// Constrained so a registered model without its own make_tree is a compile error, not a call of
+// this function with the parameters converted back to the variant.
+template <typename Variant>
+  requires std::same_as<Variant, TreeModelParams>
+TreeModel make_tree(const Variant& params, uint64_t seed, const TreeOptions& options = {}) {
+  return std::visit(
+      [&](const auto& p) { return make_tree(p, seed, options); },
+      params);
 }
 
 }  // namespace sylva

@@ -5,6 +5,8 @@
 #include "core/rng.h"
 #include "scenes/species.h"
 
+#include "tests/support/mutate.h"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -22,18 +24,7 @@ void fuzz_species(const std::string& name, const std::string& extension) {
   const std::string file = "fuzz" + extension;
   int rejected = 0;
   for (int trial = 0; trial < 300; ++trial) {
-    std::string text = base;
-    const auto at = [&] { return rng.below(static_cast<uint32_t>(text.size())); };
-    switch (trial % 3) {
-      case 0:
-        text.resize(at());
-        break;
-      case 1:
-        for (int k = 0; k < 3; ++k) text[at()] = junk[rng.below(sizeof(junk) - 1)];
-        break;
-      default:
-        text.erase(at(), 1 + rng.below(30));
-    }
+    const std::string text = mutate_text(base, trial, rng, std::string_view(junk, sizeof(junk) - 1));
     try {
       parse_species(text, file);
     } catch (const ParseError& e) {

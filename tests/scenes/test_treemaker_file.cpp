@@ -8,6 +8,8 @@
 #include "geometry/trees/tree_stats.h"
 #include "scenes/species/treemaker_file.h"
 
+#include "tests/support/mutate.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -198,18 +200,7 @@ TEST(TreeMakerFile, DamagedTemplatesNeverCrash) {
   const char junk[] = "{}()=,:#\n 0123456789.e-+tolimbeafxyz\t";
   int rejected = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    std::string text = base;
-    const auto at = [&] { return rng.below(static_cast<uint32_t>(text.size())); };
-    switch (trial % 3) {
-      case 0:
-        text.resize(at());
-        break;
-      case 1:
-        for (int k = 0; k < 3; ++k) text[at()] = junk[rng.below(sizeof(junk) - 1)];
-        break;
-      default:
-        text.erase(at(), 1 + rng.below(30));
-    }
+    const std::string text = mutate_text(base, trial, rng, std::string_view(junk, sizeof(junk) - 1));
     try {
       const TreeMakerTemplate t = parse_treemaker_template(text, "fuzz.tmpl");
       try {

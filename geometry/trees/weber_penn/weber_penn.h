@@ -1,7 +1,7 @@
 #pragma once
 // The Weber & Penn (1995) tree generator: every parameter of the paper's appendix, plus the
 // Arbaro extensions that have a clear meaning. Sylva's readings of the paper's ambiguous places
-// are docs/design.md §5.1; the closed-form formulas live in geometry/weber_penn_shape.h.
+// are docs/design.md §5.1; the closed-form formulas live in geometry/trees/weber_penn/weber_penn_shape.h.
 
 #include "core/params.h"
 #include "geometry/leaf_shape.h"

@@ -1,4 +1,4 @@
-// The Weber & Penn generator (geometry/weber_penn.h): formulas as they show in whole trees, and
+// The Weber & Penn generator (geometry/trees/weber_penn/weber_penn.h): formulas as they show in whole trees, and
 // invariants of the generated structure.
 
 #include "geometry/trees/tree_mesher.h"

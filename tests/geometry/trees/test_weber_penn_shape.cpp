@@ -1,4 +1,4 @@
-// Weber & Penn formulas (geometry/weber_penn_shape.h) against hand-computed values.
+// Weber & Penn formulas (geometry/trees/weber_penn/weber_penn_shape.h) against hand-computed values.
 
 #include "geometry/trees/weber_penn/weber_penn_shape.h"
 
