@@ -4,6 +4,7 @@
 
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/species.h"
+#include "scenes/species/treemaker_file.h"
 
 #include <benchmark/benchmark.h>
 
@@ -47,6 +48,28 @@ void bench_generate_only(benchmark::State& state, const char* file) {
   }
 }
 
+// TREE-MAKER (Neighbors & Hodges §II): the paper's dogwood, growth and meshing, and growth alone.
+void BM_DogwoodTemplate(benchmark::State& state) {
+  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
+  size_t triangles = 0, leaves = 0;
+  for (auto _ : state) {
+    const sylva::TreeMesh mesh = sylva::make_tree_mesh(sylva::make_treemaker_tree(t, 1));
+    triangles = mesh.stems.triangles.size();
+    leaves = mesh.leaves.size();
+    benchmark::DoNotOptimize(mesh.stems.positions.data());
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.counters["leaves"] = static_cast<double>(leaves);
+}
+
+void BM_DogwoodTemplateGenerateOnly(benchmark::State& state) {
+  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
+  for (auto _ : state) {
+    const sylva::TreeModel model = sylva::make_treemaker_tree(t, 1);
+    benchmark::DoNotOptimize(model.sections.positions.data());
+  }
+}
+
 void BM_WeepingWillowGenerateOnly(benchmark::State& state) { bench_generate_only(state, "weeping_willow.toml"); }
 void BM_QuakingAspenGenerateOnly(benchmark::State& state) { bench_generate_only(state, "quaking_aspen.toml"); }
 void BM_GrammarAspenGenerateOnly(benchmark::State& state) { bench_generate_only(state, "quaking_aspen.grammar"); }
@@ -58,6 +81,9 @@ BENCHMARK(BM_BlackTupelo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WeepingWillow)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CaliforniaBlackOak)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_WeepingWillowGenerateOnly)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DogwoodTemplate)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DogwoodTemplateGenerateOnly)->Unit(benchmark::kMillisecond);
+
 BENCHMARK(BM_GrammarAspen)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AbopBush)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AbopStochastic)->Unit(benchmark::kMillisecond);

@@ -10,7 +10,7 @@ namespace sylva {
 namespace {
 
 constexpr std::array<std::string_view, static_cast<size_t>(LeafShape::Count)> kNames = {
-    "rectangle", "oval", "triangle", "oak3", "maple3", "maple5", "leaflets3"};
+    "rectangle", "oval", "triangle", "oak3", "maple3", "maple5", "leaflets3", "right_triangle"};
 
 bool inside_ellipse(float u, float v, float cu, float cv, float ru, float rv) {
   return sqr((u - cu) / ru) + sqr((v - cv) / rv) <= 1.0f;
@@ -92,6 +92,8 @@ bool leaf_shape_inside(LeafShape shape, float u, float v) {
       return inside_maple5(u, v);
     case LeafShape::Leaflets3:
       return inside_leaflets3(u, v);
+    case LeafShape::RightTriangle:
+      return u + v <= 1.0f;
     case LeafShape::Count:
       break;
   }

@@ -16,6 +16,10 @@ enum class LeafShape : uint8_t {
   Maple3,     // 3-lobe maple
   Maple5,     // 5-lobe maple
   Leaflets3,  // 3 leaflets
+  // The right triangle (0,0), (1,0), (0,1): u + v ≤ 1, the right angle at the petiole corner. Any
+  // triangle is two of these (split at the foot of its longest edge's altitude), which is how
+  // TREE-MAKER's tri= elements become leaf quads (docs/treemaker.md).
+  RightTriangle,
   Count
 };
 

@@ -5,8 +5,10 @@
 #include "core/hash.h"
 #include "core/prospect.h"
 #include "core/registry.h"
+#include "core/rgb_spectrum.h"
 #include "geometry/mesh_io.h"
 #include "geometry/primitives.h"
+#include "geometry/trees/tree_mesher.h"
 #include "scenes/species.h"
 #include "scenes/toml_reader.h"
 
@@ -265,11 +267,13 @@ class SceneParser {
   }
 
   // [[trees]]: a generated tree (species file + seed), meshed once per distinct (species, seed,
-  // options) and instanced.
+  // options, materials) and instanced. Leaves in material slot 0 take `leaf`, those in slots ≥ 1
+  // (TREE-MAKER flowers and fruit) `flower`; each slot is its own prototype placed with the tree.
+  // A TREE-MAKER species may omit `bark`, `leaf` and `flower`: its template's colours are used.
   void parse_trees(const Params& root) {
     for (const Params* t : root.tables("trees")) {
-      t->check_keys({"name", "species", "seed", "bark", "leaf", "quality", "time", "wind", "translate", "rotate",
-                     "scale", "object_id", "instances"});
+      t->check_keys({"name", "species", "seed", "bark", "leaf", "flower", "quality", "time", "wind", "translate",
+                     "rotate", "scale", "object_id", "instances"});
       const std::filesystem::path file = t->file_path("species");
       TreeOptions options;
       options.quality = t->real("quality", 1.0, 0.01, 100.0);
@@ -279,28 +283,93 @@ class SceneParser {
       options.wind_speed = wind.x;
       options.wind_gust = wind.y;
       const uint64_t seed = static_cast<uint64_t>(t->integer("seed", 1, 0, INT64_MAX));
-      const uint32_t bark = material_ref(*t, "bark"), leaf = material_ref(*t, "leaf");
-      const std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality,
-                                          options.time_s, options.wind_speed, options.wind_gust, bark, leaf);
+      const Species& species = load_species_once(file);
+      const std::vector<uint32_t> materials = tree_materials(*t, species);
+      std::string key = fmt::format("{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
+                                    options.wind_speed, options.wind_gust);
+      for (const uint32_t m : materials) key += fmt::format("|{}", m);
       auto it = tree_prototypes_.find(key);
       if (it == tree_prototypes_.end()) {
-        const Species& species = load_species_once(file);
+        TreeModel model;
         TreeMesh mesh;
         try {
-          mesh = make_species_mesh(species, seed, options);
+          model = make_species_model(species, seed, options);
+          TreeMeshOptions mesh_options;
+          mesh_options.quality = options.quality;
+          mesh = make_tree_mesh(model, mesh_options);
         } catch (const Error& e) {
           t->fail(file.string() + ": " + e.what());
         }
+        const std::string name = t->string("name", species.name);
+        std::vector<uint32_t> protos;
         Prototype p;
-        p.name = t->string("name", species.name);
+        p.name = name;
         p.triangles = std::move(mesh.stems);
-        p.triangle_material = bark;
-        p.leaves = std::move(mesh.leaves);
-        p.leaf_material = leaf;
-        it = tree_prototypes_.emplace(key, out_.scene.add_prototype(std::move(p))).first;
+        p.triangle_material = materials[0];
+        for (size_t slot = 0; slot + 1 < materials.size(); ++slot) {
+          LeafQuads quads = leaves_in_slot(mesh.leaves, model.leaves, slot, materials.size() - 2);
+          if (slot > 0 && quads.size() == 0) continue;
+          p.leaves = std::move(quads);
+          p.leaf_material = materials[slot + 1];
+          protos.push_back(out_.scene.add_prototype(std::move(p)));
+          p = Prototype{};
+          p.name = fmt::format("{} (leaf material {})", name, slot + 1);
+        }
+        it = tree_prototypes_.emplace(key, std::move(protos)).first;
       }
-      place(*t, it->second);
+      for (const uint32_t proto : it->second) place(*t, proto);
     }
+  }
+
+  // The leaf quads of material slot `slot` (the last slot also takes every slot beyond it), in
+  // order, with their stem ids. `quads` were meshed from `leaves`, one quad per leaf.
+  static LeafQuads leaves_in_slot(const LeafQuads& quads, const TreeLeaves& leaves, size_t slot, size_t last) {
+    LeafQuads out;
+    for (size_t i = 0; i < quads.size(); ++i) {
+      const size_t s = std::min<size_t>(leaves.material_of(i), last);
+      if (s != slot) continue;
+      out.corners.insert(out.corners.end(), quads.corners.begin() + static_cast<ptrdiff_t>(4 * i),
+                         quads.corners.begin() + static_cast<ptrdiff_t>(4 * i + 4));
+      out.shapes.push_back(quads.shapes[i]);
+      if (!quads.stem.empty()) out.stem.push_back(quads.stem[i]);
+    }
+    return out;
+  }
+
+  // A tree's materials: bark, then one per leaf material slot. Named ones come from the scene; a
+  // TREE-MAKER species fills what the scene leaves out with its template's colours (docs/treemaker.md:
+  // Smits up-sampling; bark diffuse, elements opaque two-sided leaves). Other models need `bark`
+  // and `leaf`; `flower` is then unused.
+  std::vector<uint32_t> tree_materials(const Params& t, const Species& species) {
+    const TreeMakerTemplate* tm = std::get_if<TreeMakerTemplate>(&species.model);
+    if (tm == nullptr) {
+      if (t.has("flower")) t.fail("flower", "'flower' is for models with flowers (TREE-MAKER templates)");
+      return {material_ref(t, "bark"), material_ref(t, "leaf")};
+    }
+    const TreeMakerMaterials colours = treemaker_materials(*tm);
+    const auto from_template = [&](const std::string& what, bool leaf, const Vec3& rgb) {
+      const std::string name = fmt::format("{} {} (template colour)", species.file.string(), what);
+      auto found = material_ids_.find(name);
+      if (found != material_ids_.end()) return found->second;
+      const DenseSpectrum rho = rgb_to_reflectance(rgb);
+      const uint32_t id = out_.scene.add_material(
+          name, leaf ? Material(make_leaf(name, rho, DenseSpectrum())) : Material(make_diffuse(name, rho)));
+      return material_ids_[name] = id;
+    };
+    std::vector<uint32_t> out;
+    out.push_back(t.has("bark") ? material_ref(t, "bark") : from_template("bark", false, colours.bark_rgb));
+    for (size_t slot = 0; slot < std::max<size_t>(colours.element_rgb.size(), 1); ++slot) {
+      const char* key = slot == 0 ? "leaf" : "flower";
+      if (t.has(key)) {
+        out.push_back(material_ref(t, key));
+        if (slot > 0) break;  // a named flower material takes every slot beyond the leaves
+      } else {
+        const Vec3 rgb = slot < colours.element_rgb.size() ? colours.element_rgb[slot] : Vec3(0.5f);
+        const std::string what = slot < colours.element_color_names.size() ? colours.element_color_names[slot] : "leaf";
+        out.push_back(from_template(what, true, rgb));
+      }
+    }
+    return out;
   }
 
   const Species& load_species_once(const std::filesystem::path& file) {
@@ -312,6 +381,14 @@ class SceneParser {
       dependency_hash_ = hash_ids(dependency_hash_, hash_text(text.str()));
       sp = species_.emplace(file.string(), parse_species(text.str(), file)).first;
       out_.warnings.insert(out_.warnings.end(), sp->second.warnings.begin(), sp->second.warnings.end());
+      // A TOML species naming a TREE-MAKER template depends on the template's text too.
+      const auto* tm = std::get_if<TreeMakerTemplate>(&sp->second.model);
+      if (tm != nullptr && tm->source != file) {
+        std::ifstream tin(tm->source, std::ios::binary);
+        std::stringstream ttext;
+        ttext << tin.rdbuf();
+        dependency_hash_ = hash_ids(dependency_hash_, hash_text(ttext.str()));
+      }
     }
     return sp->second;
   }
@@ -331,7 +408,7 @@ class SceneParser {
   std::filesystem::path base_dir_;
   SceneFile out_;
   std::map<std::string, uint32_t> material_ids_;
-  std::map<std::string, uint32_t> tree_prototypes_;
+  std::map<std::string, std::vector<uint32_t>> tree_prototypes_;
   std::map<std::string, Species> species_;
   uint64_t dependency_hash_ = 0;
 };

@@ -1,9 +1,11 @@
 #include "scenes/species.h"
 
+#include "core/data_path.h"
 #include "core/error.h"
 #include "core/registry.h"
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/species/lsystem_file.h"
+#include "scenes/species/treemaker_file.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
@@ -31,7 +33,16 @@ bool parse_double(std::string_view s, double& out) {
 Species parse_toml(const std::string& text, const std::filesystem::path& file) {
   TomlReader reader(file.string());
   const toml::table root = reader.parse(text);
-  const Params params = reader.to_params(root, "the species file");
+  // Files a species names (a TREE-MAKER template) resolve against the species file's directory,
+  // then Sylva's data directory.
+  const FileResolver resolver = [dir = file.parent_path()](const std::string& rel) -> std::filesystem::path {
+    const std::filesystem::path p(rel);
+    if (p.is_absolute()) return std::filesystem::exists(p) ? p : std::filesystem::path();
+    if (std::filesystem::exists(dir / p)) return dir / p;
+    if (std::filesystem::exists(data_dir() / p)) return data_dir() / p;
+    return {};
+  };
+  const Params params = reader.to_params(root, "the species file", resolver);
   Species species;
   species.file = file;
   species.name = params.string("name", file.stem().string());
@@ -42,6 +53,25 @@ Species parse_toml(const std::string& text, const std::filesystem::path& file) {
     params.fail("model", fmt::format("unknown model \"{}\" (this version reads {})", model,
                                      registered_names<TreeModelParams>()));
   species.model = std::move(*created);
+  // A TREE-MAKER species names its template file; the Figure 6 format is read here, in scenes/.
+  if (TreeMakerTemplate* t = std::get_if<TreeMakerTemplate>(&species.model)) {
+    TreeMakerTemplate loaded = load_treemaker_template(t->source);
+    loaded.unit_m = t->unit_m;
+    loaded.line_width = t->line_width;
+    loaded.source = t->source;
+    *t = std::move(loaded);
+  }
+  return species;
+}
+
+// A TREE-MAKER template (Neighbors & Hodges §V, Figure 6; docs/treemaker.md).
+Species parse_treemaker(const std::string& text, const std::filesystem::path& file) {
+  Species species;
+  species.file = file;
+  species.name = file.stem().string();
+  TreeMakerTemplate t = parse_treemaker_template(text, file);
+  t.source = file;
+  species.model = std::move(t);
   return species;
 }
 
@@ -106,10 +136,11 @@ Species parse_grammar(const std::string& text, const std::filesystem::path& file
 }
 
 constexpr SpeciesFormat kSpeciesFormats[] = {
-    {".toml", parse_toml},
-    {".xml", parse_arbaro_xml},
+    {".toml", parse_toml},        // Sylva TOML, any registered model
+    {".xml", parse_arbaro_xml},   // Arbaro XML (Weber-Penn)
     {".lsys", parse_lsys},        // L-systems (docs/lsystems.md)
     {".grammar", parse_grammar},  // the aspen grammar (docs/lsystems.md)
+    {".tmpl", parse_treemaker},   // TREE-MAKER templates (docs/treemaker.md)
 };
 
 std::string lower(std::string s) {

@@ -1,6 +1,7 @@
 #pragma once
 // Species files: a tree model and its parameters. The format is chosen by the file's extension
-// (a table in species.cpp: `.toml` Sylva TOML, `.xml` Arbaro XML); a TOML file names its model with
+// (a table in species.cpp: `.toml` Sylva TOML, `.xml` Arbaro XML, `.tmpl` a TREE-MAKER template,
+// docs/treemaker.md); a TOML file names its model with
 // `model = "..."`, dispatched through the tree-model registry (geometry/trees/tree_models.h), and
 // the model reads its own parameters.
 //
@@ -14,6 +15,9 @@
 //
 // Arbaro XML: <arbaro><species name="..."><param name="1DownAngle" value="60"/>...</species></arbaro>,
 // read as a Weber-Penn species.
+//
+// TREE-MAKER: a `.tmpl` file, or a TOML file `model = "treemaker"`, `template = "dogwood.tmpl"`
+// (relative to the TOML file), optional `unit_m` (metres per template unit) and `line_width`.
 //
 // Every mistake (syntax, unknown or repeated parameter, wrong type, value out of range) throws
 // sylva::ParseError "file:line: message". Parameters read but not used become warnings.

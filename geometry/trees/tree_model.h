@@ -54,6 +54,12 @@ struct TreeLeaves {
   std::vector<float> width_m;
   std::vector<LeafShape> shapes;
   std::vector<int32_t> stem;  // the stem carrying the leaf
+  // Material slot per leaf: 0 = foliage, 1.. = further element materials (TREE-MAKER flowers and
+  // fruit, docs/treemaker.md). Empty means every leaf is slot 0, so generators without flowers
+  // need not fill it; otherwise it has one entry per leaf.
+  std::vector<uint8_t> material;
+
+  uint8_t material_of(size_t i) const { return material.empty() ? 0 : material[i]; }
 
   size_t size() const { return positions.size(); }
 };

@@ -10,6 +10,7 @@
 #include "geometry/trees/lsystem/aspen_grammar.h"
 #include "geometry/trees/lsystem/lsystem.h"
 #include "geometry/trees/tree_model.h"
+#include "geometry/trees/treemaker/treemaker.h"
 #include "geometry/trees/weber_penn/weber_penn.h"
 
 #include <concepts>
@@ -19,7 +20,7 @@
 namespace sylva {
 
 // The registered tree models.
-using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams>;
+using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate>;
 
 // Generates the tree structure for a seed. Pure: the same inputs give a bit-identical model.
 // Constrained so a registered model without its own make_tree is a compile error, not a call of

@@ -67,7 +67,7 @@ INSTANTIATE_TEST_SUITE_P(Species, TreeGolden,
                                            GoldenCase{"quaking_aspen.grammar", 1},
                                            GoldenCase{"quaking_aspen.grammar", 2},
                                            GoldenCase{"quaking_aspen.grammar", 3}, GoldenCase{"abop_bush.lsys", 1},
-                                           GoldenCase{"abop_stochastic.lsys", 1}),
+                                           GoldenCase{"abop_stochastic.lsys", 1}, GoldenCase{"dogwood.tmpl", 1}),
                          [](const ::testing::TestParamInfo<GoldenCase>& info) {
                            std::string name = golden_name(info.param.file);
                            return name + "_seed" + std::to_string(info.param.seed);
@@ -113,6 +113,21 @@ TEST(SylvaTree, SpeciesErrorsExitNonZeroWithFileAndLine) {
   EXPECT_NE(read_text(dir / "err.txt").find("bad.toml:3: unknown parameter 'Levles'"), std::string::npos)
       << read_text(dir / "err.txt");
   EXPECT_NE(run("tree \"" + bad.string() + "\" --wind fast", dir / "out.txt", dir / "err.txt"), 0);
+}
+
+TEST(SylvaTree, TreeMakerTemplates) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "sylva_test_tree";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path out = dir / "tmpl.txt", err = dir / "err.txt", obj = dir / "dogwood.obj";
+  const std::string tmpl = (kSource / "data" / "species" / "dogwood.tmpl").string();
+  ASSERT_EQ(run("tree \"" + tmpl + "\" --seed 1 --stats --obj \"" + obj.string() + "\"", out, err), 0)
+      << read_text(err);
+  EXPECT_NE(read_text(out).find("\"species\": \"dogwood\""), std::string::npos) << read_text(out);
+  EXPECT_GT(std::filesystem::file_size(obj), 100000u);
+  const std::filesystem::path bad = dir / "bad.tmpl";
+  std::ofstream(bad) << "iterations { i= 3 }\ngravity { g= }\n";
+  EXPECT_NE(run("tree \"" + bad.string() + "\" --stats", out, err), 0);
+  EXPECT_NE(read_text(err).find("bad.tmpl:2: expected a number for 'g='"), std::string::npos) << read_text(err);
 }
 
 }  // namespace

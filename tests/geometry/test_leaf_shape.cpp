@@ -38,10 +38,19 @@ TEST(LeafShape, Coverage) {
   EXPECT_NEAR(leaf_shape_coverage(LeafShape::Rectangle), 1.0f, 1e-6f);
   EXPECT_NEAR(leaf_shape_coverage(LeafShape::Oval), kPi / 4.0f, 2e-3f);
   EXPECT_NEAR(leaf_shape_coverage(LeafShape::Triangle), 0.5f, 2e-3f);
+  EXPECT_NEAR(leaf_shape_coverage(LeafShape::RightTriangle), 0.5f, 5e-3f);
   for (const LeafShape shape : {LeafShape::Oak3, LeafShape::Maple3, LeafShape::Maple5, LeafShape::Leaflets3}) {
     EXPECT_GT(leaf_shape_coverage(shape), 0.2f) << leaf_shape_name(shape);
     EXPECT_LT(leaf_shape_coverage(shape), 0.7f) << leaf_shape_name(shape);
   }
+}
+
+TEST(LeafShape, RightTriangleHasItsRightAngleAtThePetioleCorner) {
+  EXPECT_TRUE(leaf_shape_inside(LeafShape::RightTriangle, 0.001f, 0.001f));
+  EXPECT_TRUE(leaf_shape_inside(LeafShape::RightTriangle, 0.98f, 0.01f));
+  EXPECT_TRUE(leaf_shape_inside(LeafShape::RightTriangle, 0.01f, 0.98f));
+  EXPECT_FALSE(leaf_shape_inside(LeafShape::RightTriangle, 0.6f, 0.6f));
+  EXPECT_FALSE(leaf_shape_inside(LeafShape::RightTriangle, 0.98f, 0.98f));
 }
 
 TEST(LeafShape, LobesAndSinuses) {

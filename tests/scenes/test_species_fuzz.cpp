@@ -37,6 +37,7 @@ void fuzz_species(const std::string& name, const std::string& extension) {
 
 TEST(SpeciesFuzz, DamagedTomlNeverCrashes) { fuzz_species("california_black_oak.toml", ".toml"); }
 TEST(SpeciesFuzz, DamagedArbaroXmlNeverCrashes) { fuzz_species("quaking_aspen_arbaro.xml", ".xml"); }
+TEST(SpeciesFuzz, DamagedTreeMakerTemplateNeverCrashes) { fuzz_species("dogwood.tmpl", ".tmpl"); }
 
 }  // namespace
 }  // namespace sylva
