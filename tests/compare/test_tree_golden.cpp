@@ -67,7 +67,8 @@ INSTANTIATE_TEST_SUITE_P(Species, TreeGolden,
                                            GoldenCase{"quaking_aspen.grammar", 1},
                                            GoldenCase{"quaking_aspen.grammar", 2},
                                            GoldenCase{"quaking_aspen.grammar", 3}, GoldenCase{"abop_bush.lsys", 1},
-                                           GoldenCase{"abop_stochastic.lsys", 1}, GoldenCase{"dogwood.tmpl", 1}),
+                                           GoldenCase{"abop_stochastic.lsys", 1}, GoldenCase{"dogwood.tmpl", 1},
+                                           GoldenCase{"dogwood.tmpl", 2}, GoldenCase{"red_maple_sapling.tmpl", 1}),
                          [](const ::testing::TestParamInfo<GoldenCase>& info) {
                            std::string name = golden_name(info.param.file);
                            return name + "_seed" + std::to_string(info.param.seed);

@@ -245,40 +245,5 @@ TEST(TreeMakerFile, DogwoodGrowsIntoAFloweringTree) {
   EXPECT_EQ(mats.element_color_names[1], "white");
 }
 
-struct GoldenCase {
-  const char* file;
-  uint64_t seed;
-};
-
-class TreeMakerGolden : public ::testing::TestWithParam<GoldenCase> {};
-
-// Exact summaries of the shipped templates (golden/geometry/, as tests/compare/test_tree_golden.cpp
-// does for the species files). Regenerate after an intended change with
-// `SYLVA_UPDATE_GOLDEN=1 ./test_scenes --gtest_filter='*TreeMakerGolden*'`.
-TEST_P(TreeMakerGolden, MatchesSummary) {
-  const GoldenCase c = GetParam();
-  const std::filesystem::path file = kSpecies / c.file;
-  const TreeModel model = make_treemaker_tree(load_treemaker_template(file), c.seed);
-  const TreeMesh mesh = make_tree_mesh(model);
-  const std::string json = tree_stats_json(compute_tree_stats(model, mesh), file.stem().string(), c.seed);
-  const std::filesystem::path golden = std::filesystem::path(SYLVA_SOURCE_DIR) / "golden" / "geometry" /
-                                       (file.stem().string() + "_tmpl_seed" + std::to_string(c.seed) + ".json");
-  const char* update = std::getenv("SYLVA_UPDATE_GOLDEN");
-  if (update != nullptr && std::string(update) == "1") {
-    std::ofstream(golden, std::ios::binary) << json;
-    GTEST_SKIP() << "updated " << golden;
-  }
-  ASSERT_TRUE(std::filesystem::exists(golden)) << golden << " missing";
-  EXPECT_EQ(json, read_text(golden)) << "geometry changed for " << c.file << " seed " << c.seed;
-}
-
-INSTANTIATE_TEST_SUITE_P(Templates, TreeMakerGolden,
-                         ::testing::Values(GoldenCase{"dogwood.tmpl", 1}, GoldenCase{"dogwood.tmpl", 2},
-                                           GoldenCase{"red_maple_sapling.tmpl", 1}),
-                         [](const ::testing::TestParamInfo<GoldenCase>& info) {
-                           return std::filesystem::path(info.param.file).stem().string() + "_seed" +
-                                  std::to_string(info.param.seed);
-                         });
-
 }  // namespace
 }  // namespace sylva
