@@ -116,7 +116,11 @@ Species parse_arbaro_xml(const std::string& text, const std::filesystem::path& f
     v.string = value.value();
     params.add(pname, std::move(v));
   }
-  species.model = WeberPennParams::create(params, species.warnings);
+  // An Arbaro library reads as Arbaro reads it unless the file says otherwise (docs/weber_penn.md).
+  const bool has_reading = params.has("reading");
+  WeberPennParams weber_penn = WeberPennParams::create(params, species.warnings);
+  if (!has_reading) weber_penn.reading = wp::Reading::Arbaro;
+  species.model = weber_penn;
   return species;
 }
 

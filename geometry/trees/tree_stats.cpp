@@ -74,8 +74,13 @@ std::string tree_stats_json(const TreeStats& s, const std::string& species, uint
   out += fmt::format("  \"triangles\": {},\n", s.triangles);
   out += fmt::format("  \"quads\": {},\n", s.quads);
   out += fmt::format("  \"height_m\": {:.6f},\n", s.height_m);
-  out += fmt::format("  \"bbox_min\": [{:.6f}, {:.6f}, {:.6f}],\n", s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z);
-  out += fmt::format("  \"bbox_max\": [{:.6f}, {:.6f}, {:.6f}],\n", s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z);
+  // An empty tree has no bounds: null, not the infinities of an empty box (not valid JSON).
+  if (s.bounds.empty()) {
+    out += "  \"bbox_min\": null,\n  \"bbox_max\": null,\n";
+  } else {
+    out += fmt::format("  \"bbox_min\": [{:.6f}, {:.6f}, {:.6f}],\n", s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z);
+    out += fmt::format("  \"bbox_max\": [{:.6f}, {:.6f}, {:.6f}],\n", s.bounds.hi.x, s.bounds.hi.y, s.bounds.hi.z);
+  }
   out += fmt::format("  \"leaf_area_m2\": {:.6f},\n", s.leaf_area_m2);
   if (generation_ms) out += fmt::format("  \"generation_ms\": {:.3f},\n", *generation_ms);
   out += fmt::format("  \"mesh_hash\": \"{}\"\n", hex64(s.mesh_hash));

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace sylva {
@@ -121,9 +123,17 @@ TEST(Species, ArbaroXml) {
   EXPECT_NE(x.warnings[0].find("Smooth"), std::string::npos);
   EXPECT_FLOAT_EQ(wp(x).level[1].down_angle_v, -50.0f);
   EXPECT_FLOAT_EQ(wp(x).level[1].branch_dist, 1.0f);
-  // The XML file holds the TOML species' values: the same tree, bit for bit.
-  const Species t = load_species(kSpecies / "quaking_aspen.toml");
-  EXPECT_EQ(hash_tree_mesh(make_species_mesh(x, 5)), hash_tree_mesh(make_species_mesh(t, 5)));
+  // An Arbaro file is read as Arbaro reads it; it holds the TOML species' values, so it gives the
+  // TOML species' tree under `reading = "arbaro"`, bit for bit, and another under the paper's.
+  EXPECT_EQ(wp(x).reading, wp::Reading::Arbaro);
+  const std::filesystem::path toml = kSpecies / "quaking_aspen.toml";
+  const Species t = load_species(toml);
+  EXPECT_EQ(wp(t).reading, wp::Reading::Paper);
+  std::ifstream in(toml);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const Species t_arbaro = parse_species("reading = \"arbaro\"\n" + text, toml);
+  EXPECT_EQ(hash_tree_mesh(make_species_mesh(x, 5)), hash_tree_mesh(make_species_mesh(t_arbaro, 5)));
+  EXPECT_NE(hash_tree_mesh(make_species_mesh(x, 5)), hash_tree_mesh(make_species_mesh(t, 5)));
 
   const Species s = parse_species(
       "<?xml version='1.0'?>\n<arbaro>\n <species name='demo'>\n  <param name='Levels' value='2'/>\n"
@@ -136,6 +146,27 @@ TEST(Species, ArbaroXml) {
   EXPECT_EQ(wp(s).leaf_shape, LeafShape::Oval);
   EXPECT_EQ(wp(s).leaf_distrib, 3);
   EXPECT_FLOAT_EQ(wp(s).leaf_stem_len, 0.5f);  // Arbaro default
+}
+
+TEST(Species, ReadingKey) {
+  const std::string head = "model = \"weber-penn\"\n";
+  EXPECT_EQ(wp(parse_species(head, "a.toml")).reading, wp::Reading::Paper);
+  EXPECT_EQ(wp(parse_species(head + "reading = \"arbaro\"\n", "a.toml")).reading, wp::Reading::Arbaro);
+  EXPECT_EQ(wp(parse_species(head + "reading = \"paper\"\n", "a.toml")).reading, wp::Reading::Paper);
+  EXPECT_EQ(error_of(head + "reading = \"sapling\"\n"),
+            "bad.toml:2: 'reading' must be \"paper\" or \"arbaro\", not \"sapling\"");
+  EXPECT_EQ(error_of(head + "reading = 2\n"), "bad.toml:2: 'reading' must be \"paper\" or \"arbaro\", not 2");
+  // An Arbaro file may ask for the paper's reading.
+  const Species x = parse_species(
+      "<arbaro>\n<species name='x'>\n<param name='reading' value='paper'/>\n</species></arbaro>\n", "x.xml");
+  EXPECT_EQ(wp(x).reading, wp::Reading::Paper);
+}
+
+TEST(Species, TrunkBelowTheHorizontalWarns) {
+  const Species s = parse_species("model = \"weber-penn\"\n0DownAngle = 100\n", "down.toml");
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("down.toml: warning: 0DownAngle"), std::string::npos) << s.warnings[0];
+  EXPECT_TRUE(load_species(kSpecies / "california_black_oak.toml").warnings.empty());
 }
 
 TEST(Species, ArbaroXmlErrors) {

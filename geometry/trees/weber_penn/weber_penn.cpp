@@ -13,7 +13,7 @@ namespace {
 
 // Budgets that turn a runaway parameter set (e.g. nBranches in the hundreds of thousands on two
 // levels) into a clear error instead of exhausting memory: far above any real tree (the Weeping
-// Willow has 15k stems and 170k leaves).
+// Willow has 50k stems and 550k leaves).
 constexpr size_t kMaxStems = 1'000'000;
 constexpr size_t kMaxLeaves = 10'000'000;
 
@@ -56,9 +56,9 @@ Frame rotate_about_vertical(const Frame& f, float a) {
 // §4.3 orientation of a child stem or leaf: turn about the parent's axis by nRotate (alternating
 // when negative; `rotate_deg` and `alternate` carry the running state along the parent) or, for a
 // fan, by `fan_deg` about the parent's y axis; then tilt down by nDownAngle at `ratio` along it.
-Frame orient_child(const Frame& parent_frame, const WeberPennLevel& lp, float ratio, float u_down, float u_rot,
-                   bool fan, float fan_deg, float& rotate_deg, int& alternate) {
-  const float down = wp::down_angle_deg(lp.down_angle, lp.down_angle_v, ratio, u_down);
+Frame orient_child(const Frame& parent_frame, const WeberPennLevel& lp, wp::Reading reading, float ratio, float u_down,
+                   float u_rot, bool fan, float fan_deg, float& rotate_deg, int& alternate) {
+  const float down = wp::down_angle_deg(lp.down_angle, lp.down_angle_v, ratio, u_down, reading);
   if (fan) return rotate_x(rotate_y(parent_frame, radians(fan_deg)), radians(down));
   rotate_deg = wp::rotate_angle_deg(lp.rotate, lp.rotate_v, rotate_deg, alternate, u_rot);
   if (lp.rotate < 0.0f) alternate = -alternate;
@@ -71,6 +71,36 @@ Frame orthonormalized(const Frame& f) {
   if (lx < 1e-6f) return Frame::from_z(z);
   x /= lx;
   return Frame{x, glm::cross(z, x), z};
+}
+
+// Turns frame f so that its z axis becomes `to` (unit), by the shortest rotation.
+Frame turn_to(const Frame& f, const Vec3& to) {
+  const Vec3 axis = glm::cross(f.z, to);
+  const float s = glm::length(axis);
+  if (s < 1e-7f) return f;
+  return orthonormalized(rotate_axis(f, axis / s, std::atan2(s, glm::dot(f.z, to))));
+}
+
+// §4.8: turns f up by `angle_rad` (down when negative) about the horizontal axis across its z axis.
+Frame turn_up(const Frame& f, float angle_rad) {
+  const Vec3 across{-f.z.y, f.z.x, 0.0f};
+  const float l = glm::length(across);
+  if (l < 1e-6f) return f;
+  return rotate_axis(f, across / l, -angle_rad);
+}
+
+// A stem on flat ground: a segment of length `seg_len` from `start` whose end would come closer to
+// the ground than `clearance` (its radius there) is turned up, keeping its heading, just enough to
+// stay at that height; the stem then goes on from the turned frame, as if grown along the ground.
+Frame keep_above_ground(const Frame& f, const Vec3& start, float seg_len, float clearance) {
+  if (seg_len <= 0.0f) return f;
+  const float need = (clearance - start.z) / seg_len;  // the least z component of the direction
+  if (f.z.z >= need) return f;
+  const float up = std::min(need, 1.0f);
+  Vec3 heading{f.z.x, f.z.y, 0.0f};
+  const float h = glm::length(heading);
+  heading = h > 1e-6f ? heading / h : Vec3(1.0f, 0.0f, 0.0f);
+  return turn_to(f, heading * std::sqrt(std::max(0.0f, 1.0f - up * up)) + Vec3(0.0f, 0.0f, up));
 }
 
 // A stem (or a clone) ready to be formed from segment `segment` on.
@@ -101,10 +131,14 @@ struct StemState {
   uint32_t child_counter = 0;
 };
 
+// A formed segment with the child and leaf counts it carries: those of the stem when the segment
+// was formed, before a split at its end divides them (Arbaro spawns per segment, then splits).
 struct SegmentStart {
   Vec3 pos;
   Frame frame;
   int index;
+  float children = 0.0f;
+  float leaves = 0.0f;
 };
 
 class Builder {
@@ -113,7 +147,12 @@ class Builder {
 
   Builder(const WeberPennParams& params, uint64_t seed, TreeModel& model, Lengths lengths,
           std::vector<float>* pruned_lengths)
-      : p_(params), seed_(seed), m_(model), lengths_(lengths), pruned_(pruned_lengths) {
+      : p_(params),
+        seed_(seed),
+        m_(model),
+        lengths_(lengths),
+        pruned_(pruned_lengths),
+        ground_(!params.asks_below_ground()) {
     const size_t n = static_cast<size_t>(std::max(1, p_.levels)) + 1;
     split_error_.assign(n, 0.0f);
     segments_.resize(n);
@@ -125,23 +164,41 @@ class Builder {
     // §4.3: scale_tree = Scale ± ScaleV; the trunk length (0Length ± 0LengthV)·scale_tree.
     scale_tree_ = std::max(1e-4f, p_.scale + p_.scale_v * rng.symmetric());
     z_scale_ = p_.z_scale + p_.z_scale_v * rng.symmetric();
-    const WeberPennLevel& l0 = p_.at(0);
-    const float length = std::max(0.0f, (l0.length + l0.length_v * rng.symmetric()) * scale_tree_);
-    // §4.4: radius_trunk = length_trunk·Ratio·(0Scale ± 0ScaleV) (docs/design.md §5.1).
-    const float trunk_scale = p_.trunk_scale + p_.trunk_scale_v * rng.symmetric();
     length_base_ = p_.base_size * scale_tree_;
-    if (length < kMinStemLength) return;
+    // 0Branches trunks (as Arbaro builds them, TreeImpl.make): each turned about the vertical by
+    // 0Rotate ± 0RotateV from the previous one (alternating when negative), tilted by
+    // 0DownAngle ± 0DownAngleV, and set off its base by ±0BranchDist metres in a random direction.
+    // The first trunk draws from the tree's stream, so a one-trunk tree is unchanged by the others.
+    const WeberPennLevel& l0 = p_.at(0);
+    const Frame upright{};
+    Pcg32 placement(hash_ids(seed_, 0x7C2ull));
+    float rotate_deg = 0.0f;
+    int alternate = 1;
+    for (int k = 0; k < std::max(1, l0.branches); ++k) {
+      Pcg32 trunk_rng = k == 0 ? rng : Pcg32(hash_ids(seed_, 0x7EEull, static_cast<uint64_t>(k)));
+      const float length = std::max(0.0f, (l0.length + l0.length_v * trunk_rng.symmetric()) * scale_tree_);
+      // §4.4: radius_trunk = length_trunk·Ratio·(0Scale ± 0ScaleV) (docs/design.md §5.1).
+      const float trunk_scale = p_.trunk_scale + p_.trunk_scale_v * trunk_rng.symmetric();
+      const float u_down = placement.symmetric();
+      const float u_rot = placement.symmetric();
+      const float heading = placement.uniform() * kTwoPi;
+      const float dist = l0.branch_dist * placement.symmetric();
+      if (length < kMinStemLength) continue;
 
-    StemState t;
-    t.level = 0;
-    t.seed = hash_ids(seed_, 0x7C0ull);
-    t.rng = Pcg32(t.seed);
-    t.length = length;
-    t.base_radius = length * p_.ratio * trunk_scale;
-    t.length_child_max = l0.length;
-    init_random_state(t);
-    init_counts(t);
-    form(t, false);
+      StemState t;
+      t.level = 0;
+      t.seed = k == 0 ? hash_ids(seed_, 0x7C0ull) : hash_ids(seed_, 0x7C0ull, static_cast<uint64_t>(k));
+      t.rng = Pcg32(t.seed);
+      t.length = length;
+      t.base_radius = length * p_.ratio * trunk_scale;
+      t.length_child_max = l0.length;
+      t.pos = Vec3(dist * std::cos(heading), dist * std::sin(heading), 0.0f);
+      t.section_frame = t.frame =
+          orient_child(upright, l0, p_.reading, 1.0f, u_down, u_rot, false, 0.0f, rotate_deg, alternate);
+      init_random_state(t);
+      init_counts(t);
+      form(t, false);
+    }
     finish();
   }
 
@@ -175,13 +232,15 @@ class Builder {
           count = wp::child_count_level1(branches, s.length, s.parent_length, s.length_child_max);
         else
           count = wp::child_count_deeper(branches, s.offset, s.parent_length);
+        // Arbaro counts whole stems per stem (truncated; the guard keeps 29.99999 from becoming 29).
+        if (p_.reading == wp::Reading::Arbaro) count = std::floor(count + 1e-4f);
         s.children_per_segment = std::max(0.0f, count) / static_cast<float>(n);
       }
     }
     if (s.level == p_.levels - 1 && p_.leaves > 0) {
       const float q = p_.quality * p_.leaf_quality;
       const float count =
-          wp::leaf_count(p_.leaves, p_.leaf_distrib, s.offset, s.level == 0 ? 0.0f : s.parent_length, q);
+          wp::leaf_count(p_.leaves, p_.leaf_distrib, s.offset, s.level == 0 ? 0.0f : s.parent_length, q, p_.reading);
       s.leaves_per_segment = std::max(0.0f, count) / static_cast<float>(n);
     }
   }
@@ -262,14 +321,22 @@ class Builder {
         // Helix: the segments precess once about the stem's initial axis, tilted by |nCurveV|.
         const float turn = kTwoPi * (static_cast<float>(i) + 0.5f) / static_cast<float>(n);
         f = rotate_x(rotate_z(s.helix_frame, turn), radians(-lp.curve_v));
-      } else {
-        const float curve = wp::segment_curve_deg(lp.curve, lp.curve_back, n, i) +
-                            lp.curve_v / static_cast<float>(n) * s.rng.symmetric() + s.split_correction_deg;
-        f = rotate_x(f, radians(curve));
+      } else if (i > 0) {
+        // Every segment turns away from the previous one; the first keeps the direction the down
+        // and rotate angles gave the stem (both readings, docs/weber_penn.md).
+        float curve = wp::segment_curve_deg(lp.curve, lp.curve_back, n, i) + s.split_correction_deg;
+        const float random_deg = lp.curve_v / static_cast<float>(n) * s.rng.symmetric();
+        if (p_.reading == wp::Reading::Paper) {
+          f = rotate_x(f, radians(curve + random_deg));  // the random part in the plane of nCurve
+        } else {
+          f = rotate_x(f, radians(curve));
+          const float about = s.rng.uniform() * kTwoPi;  // Arbaro: about a random axis across the stem
+          f = rotate_axis(f, f.x * std::cos(about) + f.y * std::sin(about), radians(random_deg));
+        }
       }
-      // §4.8 vertical attraction, levels ≥ 2.
-      if (s.level >= 2 && p_.attraction_up != 0.0f)
-        f = rotate_x(f, -wp::attraction_up_rad(p_.attraction_up, f.z.z, f.y.z, n));
+      // §4.8 vertical attraction, levels ≥ 2, about the horizontal axis across the stem.
+      if (i > 0 && s.level >= 2 && p_.attraction_up != 0.0f)
+        f = turn_up(f, wp::attraction_up_rad(p_.attraction_up, f.z.z, n));
       // §4.7 wind sway about the segment's x and y axes.
       if (p_.wind.active()) {
         const wp::Sway sway =
@@ -278,8 +345,9 @@ class Builder {
         f = rotate_y(rotate_x(f, radians(sway.x_deg)), radians(sway.y_deg));
       }
       f = orthonormalized(f);
+      if (ground_) f = keep_above_ground(f, pos, seg_len, radius_at(s, z1));
 
-      if (!probe) segs.push_back({pos, f, i});
+      if (!probe) segs.push_back({pos, f, i, s.children_per_segment, s.leaves_per_segment});
       for (; zi < zs.size() && zs[zi] < z1 - 1e-6f; ++zi) {
         const Vec3 q = pos + f.z * ((zs[zi] - z0) * s.length);
         if (probe) {
@@ -341,14 +409,15 @@ class Builder {
       const float sign = s.rng.uniform() < 0.5f ? -1.0f : 1.0f;
       spread = 0.5f * sign * wp::split_spread_deg(declination, s.rng.uniform());
     }
-    // The stem and its clones share the children and leaves the stem would have carried over its
-    // remaining segments: our reading of §4.3's "any stem that has been cloned or is, itself, a
-    // clone reduces its propensity [...] by half" (a split in two halves each one's children), as
-    // in the OpenTree port of the model. Splitting thus redistributes the crown instead of
-    // multiplying it; otherwise the Weeping Willow would carry ~7 million leaves.
+    // The stem and its clones share the children the stem would have carried over its remaining
+    // segments (as Arbaro does). The paper reading shares the leaves too (docs/weber_penn.md,
+    // "Readings"); Arbaro gives every clone the full leaf count.
     const float share = 1.0f / static_cast<float>(splits + 1);
     s.children_per_segment *= share;
-    s.leaves_per_segment *= share;
+    if (p_.reading == wp::Reading::Paper) s.leaves_per_segment *= share;
+    // §4.3 "any stem that has been cloned or is, itself, a clone reduces its propensity to form
+    // clones by half": the paper reading; Arbaro never halves.
+    const bool halve = p_.reading == wp::Reading::Paper;
     const Frame pre = f;
     const Vec3 up{0.0f, 0.0f, 1.0f};
     for (int c = 0; c <= splits; ++c) {
@@ -368,17 +437,18 @@ class Builder {
       k.frame = g;
       k.segment = i + 1;
       k.split_correction_deg = correction;
-      k.halved_splits = true;
+      k.halved_splits = halve;
       k.child_counter = 0;
       init_random_state(k);
       k.helix_frame = s.helix_frame;
       clones.push_back(k);
     }
     s.split_correction_deg = correction;
-    s.halved_splits = true;
+    s.halved_splits = halve;
   }
 
-  // §4.3 children and §4.5 leaves along the segments just formed.
+  // §4.3 children and §4.5 leaves along the segments just formed, each segment with the counts it
+  // had when it was formed (a split divides the counts of the segments above it only).
   void spawn_children(StemState& s, int stem_index, float seg_len, const Vec3& tip, const Frame& tip_frame) {
     const int next = s.level + 1;
     std::vector<SegmentStart>& segs = segments_[static_cast<size_t>(s.level)];
@@ -391,10 +461,10 @@ class Builder {
           const SegmentStart seg = segs[si];  // copy: children reuse deeper scratch only
           float lo = static_cast<float>(seg.index) * seg_len;
           const float hi = lo + seg_len;
-          float count = s.children_per_segment;
+          float count = seg.children;
           if (s.level == 0) {
             lo = std::max(lo, length_base_);
-            count = hi > lo ? s.children_per_segment * (hi - lo) : 0.0f;
+            count = hi > lo ? seg.children * (hi - lo) : 0.0f;
           }
           if (hi <= lo) continue;
           const float total = count + s.child_carry;
@@ -416,7 +486,7 @@ class Builder {
       }
       for (size_t si = 0; si < segs.size(); ++si) {
         const SegmentStart& seg = segs[si];
-        const float total = s.leaves_per_segment + s.leaf_carry;
+        const float total = seg.leaves + s.leaf_carry;
         const int k = static_cast<int>(std::floor(total));
         s.leaf_carry = total - static_cast<float>(k);
         for (int j = 0; j < k; ++j) {
@@ -449,15 +519,17 @@ class Builder {
     const WeberPennLevel& lp = p_.at(c.level);
     // §4.3 length_child_max = nLength ± nLengthV, drawn per child.
     const float lcm = lp.length + lp.length_v * c.rng.symmetric();
-    float length = s.level == 0 ? wp::child_length_level1(p_.shape, p_.envelope, s.length, length_base_, lcm, offset)
-                                : wp::child_length_deeper(lcm, s.length, offset);
+    float length = s.level == 0
+                       ? wp::child_length_level1(p_.shape, p_.envelope, s.length, length_base_, lcm, offset, p_.reading)
+                       : wp::child_length_deeper(lcm, s.length, offset);
     // §4.3 down and rotate angles.
     const float parent_base = s.level == 0 ? length_base_ : 0.0f;
     const float span = s.length - parent_base;
     const float ratio = span > 0.0f ? (s.length - offset) / span : 0.0f;
     const float u_down = c.rng.symmetric();
     const float u_rot = c.rng.symmetric();
-    const Frame f = orient_child(parent_frame, lp, ratio, u_down, u_rot, fan, fan_deg, s.rotate_deg, s.alternate);
+    const Frame f =
+        orient_child(parent_frame, lp, p_.reading, ratio, u_down, u_rot, fan, fan_deg, s.rotate_deg, s.alternate);
     c.pos = pos;
     c.section_frame = c.frame = orthonormalized(f);
     c.offset = offset;
@@ -522,15 +594,17 @@ class Builder {
     const float ratio = s.length > 0.0f ? (s.length - offset) / s.length : 0.0f;
     const float u_down = rng.symmetric();
     const float u_rot = rng.symmetric();
-    Frame f = orient_child(parent_frame, lp, ratio, u_down, u_rot, fan, fan_deg, s.leaf_rotate_deg, s.leaf_alternate);
+    Frame f = orient_child(parent_frame, lp, p_.reading, ratio, u_down, u_rot, fan, fan_deg, s.leaf_rotate_deg,
+                           s.leaf_alternate);
     // §4.5 leaf size: LeafScale/√quality by LeafScale·LeafScaleX/√quality.
     const float q = std::sqrt(std::max(1e-6f, p_.quality * p_.leaf_quality));
     const float length = p_.leaf_scale / q;
     const float width = p_.leaf_scale * p_.leaf_scale_x / q;
     const Vec3 pos = axis_pos + f.z * (p_.leaf_stem_len * length);
     bend_leaf(f, pos);
+    const Vec3 at = ground_ ? lift_leaf(f, pos, length, width) : pos;
     TreeLeaves& l = m_.leaves;
-    l.positions.push_back(pos);
+    l.positions.push_back(at);
     l.frames.push_back(f);
     l.length_m.push_back(length);
     l.width_m.push_back(width);
@@ -547,6 +621,16 @@ class Builder {
           count > 1 ? -0.5f * lp.rotate + lp.rotate * static_cast<float>(j) / static_cast<float>(count - 1) : 0.0f;
       add_leaf(s, stem_index, f, tip, s.length, true, a);
     }
+  }
+
+  // A leaf whose quad (tree_mesher: `width` across −x centred on `pos`, `length` along z) would
+  // reach below the ground points up instead; if it still would, it is lifted to the ground.
+  static Vec3 lift_leaf(Frame& f, Vec3 pos, float length, float width) {
+    auto lowest = [&] { return pos.z - 0.5f * width * std::abs(f.x.z) + std::min(0.0f, f.z.z * length); };
+    if (lowest() >= 0.0f) return pos;
+    if (f.z.z < 0.0f) f = turn_to(f, Vec3(f.z.x, f.z.y, -f.z.z));
+    if (lowest() < 0.0f) pos.z -= lowest();
+    return pos;
   }
 
   // §4.9: turn the leaf's normal (frame y) toward the outside about the vertical, then up toward
@@ -597,6 +681,7 @@ class Builder {
   Lengths lengths_;
   std::vector<float>* pruned_;
   size_t replay_pos_ = 0;
+  bool ground_ = true;  // keep every stem and leaf above z = 0
   float scale_tree_ = 1.0f;
   float z_scale_ = 1.0f;
   float length_base_ = 0.0f;

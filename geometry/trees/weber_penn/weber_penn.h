@@ -9,6 +9,7 @@
 #include "geometry/trees/weber_penn/weber_penn_shape.h"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 namespace sylva {
@@ -81,11 +82,17 @@ struct WeberPennParams {
   float leaf_stem_len = 0.5f;  // LeafStemLen: petiole length as a fraction of the leaf length
   int leaf_distrib = 4;        // LeafDistrib: the shape of §4.5's leaf density (4 in the paper)
   float leaf_quality = 1.0f;   // LeafQuality: multiplies `quality` for the leaves
+  // Which reading of the paper's ambiguous places (docs/weber_penn.md, "Readings"): the species
+  // key `reading = "paper" | "arbaro"`; Arbaro XML files default to Arbaro's.
+  wp::Reading reading = wp::Reading::Paper;
   // Evaluation settings (not species properties).
   float quality = 1.0f;  // §4.5 quality factor: leaf count ×quality, leaf size /√quality
   WeberPennWind wind;
 
   const WeberPennLevel& at(int stem_level) const { return level[static_cast<size_t>(std::min(stem_level, 3))]; }
+  // Whether the parameters ask for stems below the ground: a trunk that may start below the
+  // horizontal (|0DownAngle| + 0DownAngleV > 90°). Otherwise no geometry goes below z = 0.
+  bool asks_below_ground() const { return std::abs(level[0].down_angle) + std::abs(level[0].down_angle_v) > 90.0f; }
 };
 
 // Generates one tree. Pure: the same params and seed give a bit-identical model; with wind the

@@ -111,6 +111,7 @@ class ParamSink {
     seen_.emplace(name, line);
 
     if (name == "LeafShape") return set_leaf_shape(value, line);
+    if (name == "reading") return set_reading(value, line);
     if (name == "Smooth") {
       number(name, value, line, false, 0, 1);
       warn(line, "'Smooth' (Arbaro's mesh smoothing) is ignored; Sylva's mesh resolution follows --quality");
@@ -151,6 +152,18 @@ class ParamSink {
                              format_number(x)));
     }
     return x;
+  }
+
+  // `reading = "paper" | "arbaro"`: which reading of the paper's ambiguous places (docs/weber_penn.md).
+  void set_reading(const Value& v, int line) {
+    if (v.kind == Value::Kind::String && v.string == "paper") {
+      p_.reading = wp::Reading::Paper;
+    } else if (v.kind == Value::Kind::String && v.string == "arbaro") {
+      p_.reading = wp::Reading::Arbaro;
+    } else {
+      fail(line, fmt::format("'reading' must be \"paper\" or \"arbaro\", not {}",
+                             v.kind == Value::Kind::String ? "\"" + v.string + "\"" : format_number(v.number())));
+    }
   }
 
   // The paper's ids 0..5 (oval, triangle, oak3, maple3, maple5, leaflets3) or those names;
@@ -217,6 +230,11 @@ WeberPennParams WeberPennParams::create(const Params& params, std::vector<std::s
       params.fail_at(value, fmt::format("'{}' must be a number", name));
     sink.set(name, value);
   }
+  if (p.asks_below_ground())
+    warnings.push_back(
+        fmt::format("{}: warning: 0DownAngle ± 0DownAngleV may point a trunk below the horizontal; "
+                    "its stems and leaves are not kept above the ground",
+                    params.file()));
   return p;
 }
 
@@ -225,6 +243,7 @@ std::vector<std::string> weber_penn_parameter_names() {
   for (const Spec& s : global_specs()) names.emplace_back(s.name);
   names.emplace_back("LeafShape");
   names.emplace_back("Smooth");
+  names.emplace_back("reading");
   for (int level = 0; level <= 3; ++level)
     for (const LevelSpec& s : level_specs()) names.push_back(fmt::format("{}{}", level, s.name));
   return names;

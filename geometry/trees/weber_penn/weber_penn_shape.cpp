@@ -4,11 +4,11 @@
 
 namespace sylva::wp {
 
-float shape_ratio(int shape, float ratio, const Envelope& envelope) {
+float shape_ratio(int shape, float ratio, const Envelope& envelope, Reading reading) {
   // Weber & Penn §4.3, the ShapeRatio table; shape 8 from §4.6.
   switch (shape) {
     case 0:
-      return 0.2f + 0.8f * ratio;
+      return reading == Reading::Arbaro ? ratio : 0.2f + 0.8f * ratio;
     case 1:
       return 0.2f + 0.8f * std::sin(kPi * ratio);
     case 2:
@@ -92,16 +92,15 @@ float segment_curve_deg(float curve, float curve_back, int curve_res, int segmen
   return segment < (curve_res + 1) / 2 ? 2.0f * curve / n : 2.0f * curve_back / n;
 }
 
-float attraction_up_rad(float attraction_up, float frame_z_z, float frame_y_z, int curve_res) {
-  // Weber & Penn §4.8.
+float attraction_up_rad(float attraction_up, float frame_z_z, int curve_res) {
+  // Weber & Penn §4.8, turned about the horizontal (docs/weber_penn.md).
   const float declination = safe_acos(frame_z_z);
-  const float orientation = safe_acos(frame_y_z);
-  return attraction_up * declination * std::cos(orientation) / static_cast<float>(std::max(1, curve_res));
+  return attraction_up * std::abs(declination * std::sin(declination)) / static_cast<float>(std::max(1, curve_res));
 }
 
-float down_angle_deg(float down_angle, float down_angle_v, float position_ratio, float u) {
+float down_angle_deg(float down_angle, float down_angle_v, float position_ratio, float u, Reading reading) {
   if (down_angle_v >= 0.0f) return down_angle + down_angle_v * u;
-  return down_angle + down_angle_v * (1.0f - 2.0f * shape_ratio(0, position_ratio));
+  return down_angle + down_angle_v * (1.0f - 2.0f * shape_ratio(0, position_ratio, {}, reading));
 }
 
 float rotate_angle_deg(float rotate, float rotate_v, float previous_deg, int alternate, float u) {
@@ -110,10 +109,10 @@ float rotate_angle_deg(float rotate, float rotate_v, float previous_deg, int alt
 }
 
 float child_length_level1(int shape, const Envelope& envelope, float length_trunk, float length_base,
-                          float length_child_max, float offset) {
+                          float length_child_max, float offset, Reading reading) {
   const float span = length_trunk - length_base;
   const float ratio = span > 0.0f ? (length_trunk - offset) / span : 1.0f;
-  return length_trunk * length_child_max * shape_ratio(shape, ratio, envelope);
+  return length_trunk * length_child_max * shape_ratio(shape, ratio, envelope, reading);
 }
 
 float child_length_deeper(float length_child_max, float length_parent, float offset) {
@@ -130,9 +129,9 @@ float child_count_deeper(int branches, float offset, float length_parent) {
   return static_cast<float>(branches) * (1.0f - 0.5f * offset / length_parent);
 }
 
-float leaf_count(int leaves, int distrib, float offset, float length_parent, float quality) {
+float leaf_count(int leaves, int distrib, float offset, float length_parent, float quality, Reading reading) {
   const float ratio = length_parent > 0.0f ? offset / length_parent : 1.0f;
-  return static_cast<float>(leaves) * shape_ratio(distrib, ratio) * quality;
+  return static_cast<float>(leaves) * shape_ratio(distrib, ratio, {}, reading) * quality;
 }
 
 float child_radius(float radius_parent, float length_child, float length_parent, float ratio_power) {

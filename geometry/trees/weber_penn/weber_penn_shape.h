@@ -10,6 +10,11 @@
 
 namespace sylva::wp {
 
+// The two readings of the paper's ambiguous places (docs/weber_penn.md, "Readings"): Paper follows
+// the paper's text where the plates agree with it; Arbaro follows Arbaro's code (the reference
+// open implementation), so that an Arbaro species file looks in Sylva as it does in Arbaro.
+enum class Reading { Paper, Arbaro };
+
 // The pruning envelope (§4.6): PruneWidth, PruneWidthPeak, PrunePowerLow, PrunePowerHigh.
 struct Envelope {
   float width = 0.5f;
@@ -19,10 +24,10 @@ struct Envelope {
 };
 
 // Weber & Penn §4.3, ShapeRatio(shape, ratio) for the nine shapes 0..8. Shape 0 (conical) is
-// 0.2 + 0.8·ratio as printed. Shape 8 is the envelope of §4.6; below the peak (ratio ≥ 1 − P) it
-// uses (1 − ratio)/P instead of the printed (1 − ratio)/(1 − P) so that it is continuous at the
-// peak (docs/design.md §5.1); it is 0 outside [0, 1]. Other shape ids behave like 3 (cylindrical).
-float shape_ratio(int shape, float ratio, const Envelope& envelope = {});
+// 0.2 + 0.8·ratio as printed (Reading::Paper) or the plain ratio (Reading::Arbaro). Shape 8 is the envelope of §4.6;
+// below the peak (ratio ≥ 1 − P) it uses (1 − ratio)/P instead of the printed (1 − ratio)/(1 − P) so that it is
+// continuous at the peak (docs/design.md §5.1); it is 0 outside [0, 1]. Other shape ids behave like 3 (cylindrical).
+float shape_ratio(int shape, float ratio, const Envelope& envelope = {}, Reading reading = Reading::Paper);
 
 // Weber & Penn §4.4, radius_Z: the tapered radius at unit position z ∈ [0, 1] of a stem with base
 // radius `radius_stem` and length `length_stem`, for nTaper in [0, 3) (0 cylinder, 1 cone,
@@ -56,14 +61,19 @@ float split_spread_deg(float declination_deg, float u);
 // 2·nCurveBack/nCurveRes over the second half (docs/design.md §5.1: the total bend is nCurve).
 float segment_curve_deg(float curve, float curve_back, int curve_res, int segment);
 
-// Weber & Penn §4.8, curve_up_segment in radians, from the z components of the segment frame's
-// z and y axes. Positive values turn the stem upward (the caller rotates by −curve_up about x).
-float attraction_up_rad(float attraction_up, float frame_z_z, float frame_y_z, int curve_res);
+// Weber & Penn §4.8, curve_up_segment in radians from the z component of the segment's direction:
+// AttractionUp·|declination·sin(declination)|/nCurveRes (docs/weber_penn.md: the turn is about the
+// horizontal axis perpendicular to the stem, so the paper's cos(orientation) factor, the part of a
+// turn about the stem's x axis that changes the declination, is 1; the sin keeps an upright or a
+// hanging stem where it is instead of swinging it past the vertical). Positive values turn the
+// stem upward.
+float attraction_up_rad(float attraction_up, float frame_z_z, int curve_res);
 
 // Weber & Penn §4.3, down angle of a child. nDownAngleV ≥ 0: nDownAngle ± nDownAngleV (u ∈ [−1, 1)).
 // nDownAngleV < 0: nDownAngle + nDownAngleV·(1 − 2·ShapeRatio(0, ratio)), no random term, where
 // ratio = (length_parent − offset)/(length_parent − length_base) (docs/design.md §5.1).
-float down_angle_deg(float down_angle, float down_angle_v, float position_ratio, float u);
+float down_angle_deg(float down_angle, float down_angle_v, float position_ratio, float u,
+                     Reading reading = Reading::Paper);
 
 // Weber & Penn §4.3, rotate angle of a child about its parent's z axis in degrees. nRotate ≥ 0:
 // previous + nRotate ± nRotateV. nRotate < 0: alternating sides, ±(180 + nRotate ± nRotateV) from
@@ -73,7 +83,7 @@ float rotate_angle_deg(float rotate, float rotate_v, float previous_deg, int alt
 // Weber & Penn §4.3, child lengths. Level 1 (children of the trunk):
 // length_trunk·length_child_max·ShapeRatio(Shape, (length_trunk − offset)/(length_trunk − length_base)).
 float child_length_level1(int shape, const Envelope& envelope, float length_trunk, float length_base,
-                          float length_child_max, float offset);
+                          float length_child_max, float offset, Reading reading = Reading::Paper);
 // Deeper levels: length_child_max·(length_parent − 0.6·offset).
 float child_length_deeper(float length_child_max, float length_parent, float offset);
 
@@ -85,7 +95,8 @@ float child_count_deeper(int branches, float offset, float length_parent);
 
 // Weber & Penn §4.5, leaves on a last-level stem: Leaves·ShapeRatio(distrib, offset/length_parent)
 // ·quality (distrib = 4, tapered cylindrical, in the paper; Arbaro's LeafDistrib may change it).
-float leaf_count(int leaves, int distrib, float offset, float length_parent, float quality);
+float leaf_count(int leaves, int distrib, float offset, float length_parent, float quality,
+                 Reading reading = Reading::Paper);
 
 // Weber & Penn §4.4: radius_child = radius_parent·(length_child/length_parent)^RatioPower.
 float child_radius(float radius_parent, float length_child, float length_parent, float ratio_power);

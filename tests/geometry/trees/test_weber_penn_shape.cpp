@@ -125,12 +125,24 @@ TEST(WeberPennShape, SegmentCurveSumsToCurve) {
 }
 
 TEST(WeberPennShape, AttractionUp) {
-  // Horizontal segment (z·Z = 0) whose y axis points up: declination π/2, orientation 0.
-  EXPECT_NEAR(attraction_up_rad(1.0f, 0.0f, 1.0f, 1), kPi / 2.0f, kTol);
-  EXPECT_NEAR(attraction_up_rad(0.5f, 0.0f, 1.0f, 5), kPi / 20.0f, kTol);
-  EXPECT_NEAR(attraction_up_rad(1.0f, 0.0f, 0.0f, 1), 0.0f, kTol);  // y horizontal: no effect
-  EXPECT_NEAR(attraction_up_rad(-3.0f, 0.0f, 1.0f, 3), -kPi / 2.0f, kTol);
-  EXPECT_NEAR(attraction_up_rad(1.0f, 1.0f, 0.0f, 1), 0.0f, kTol);  // already vertical
+  // AttractionUp·|declination·sin(declination)|/nCurveRes, from the z component of the direction.
+  EXPECT_NEAR(attraction_up_rad(1.0f, 0.0f, 1), kPi / 2.0f, kTol);  // horizontal: declination π/2
+  EXPECT_NEAR(attraction_up_rad(0.5f, 0.0f, 5), kPi / 20.0f, kTol);
+  EXPECT_NEAR(attraction_up_rad(-3.0f, 0.0f, 3), -kPi / 2.0f, kTol);
+  EXPECT_NEAR(attraction_up_rad(1.0f, std::cos(kPi / 4.0f), 1), kPi / 4.0f * std::sin(kPi / 4.0f), kTol);
+  EXPECT_NEAR(attraction_up_rad(1.0f, 1.0f, 1), 0.0f, kTol);     // upright: stays
+  EXPECT_NEAR(attraction_up_rad(-3.0f, -1.0f, 1), 0.0f, 1e-5f);  // hanging: stays, no swing past it
+}
+
+TEST(WeberPennShape, ConicalShapeByReading) {
+  EXPECT_NEAR(shape_ratio(0, 0.25f, {}, Reading::Paper), 0.4f, kTol);  // 0.2 + 0.8·ratio as printed
+  EXPECT_NEAR(shape_ratio(0, 0.25f, {}, Reading::Arbaro), 0.25f, kTol);
+  // Negative nDownAngleV uses ShapeRatio(0): the aspen's top branches (60, −50) at 30° or 10°.
+  EXPECT_NEAR(down_angle_deg(60.0f, -50.0f, 0.0f, 0.0f, Reading::Paper), 30.0f, kTol);
+  EXPECT_NEAR(down_angle_deg(60.0f, -50.0f, 0.0f, 0.0f, Reading::Arbaro), 10.0f, kTol);
+  Envelope e;
+  EXPECT_NEAR(child_length_level1(0, e, 10.0f, 2.0f, 0.3f, 5.0f, Reading::Arbaro), 10.0f * 0.3f * 0.625f, kTol);
+  EXPECT_NEAR(leaf_count(10, 0, 2.0f, 4.0f, 1.0f, Reading::Arbaro), 5.0f, kTol);
 }
 
 TEST(WeberPennShape, DownAngles) {
