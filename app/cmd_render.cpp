@@ -1,171 +1,203 @@
-// `sylva render`: scene file (or the built-in default) → multi-channel EXR + PNG preview.
+// `sylva render`: scene file (or the built-in default) → multi-channel EXR + PNG preview; or one
+// chunk of a split render → a partial file (`--chunk i/N`, merged by `sylva merge`); or the frames
+// of a wind animation (`--frames A:B --fps F`), one EXR per frame.
 
 #include "app/commands.h"
-#include "core/color.h"
+#include "app/render_job.h"
 #include "core/error.h"
-#include "core/image.h"
+#include "render/chunk.h"
 #include "render/renderer.h"
 #include "render/session.h"
-#include "scenes/scene_file.h"
 
 #include <fmt/core.h>
 
 #include <chrono>
+#include <optional>
 
 namespace sylva {
 
 namespace {
 
 struct RenderOptions {
-  std::string scene;
+  RenderRequest request;
   std::string exr;
   std::string png;
-  int spp = 0;
-  std::string res;
-  int threads = 0;
-  int64_t seed = -1;
-  std::string bands;
-  int max_depth = 0;
   bool quiet = false;
   bool resume = false;
   double checkpoint_minutes = 10.0;
   float exposure = 0.0f;
   bool exposure_set = false;
-  std::string view;
+  PreviewOverrides preview;
+  std::string chunk;
+  std::string split = "samples";
+  std::string frames;
+  double fps = 24.0;
 };
 
-std::vector<std::string> split_list(const std::string& s) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (start <= s.size()) {
-    const size_t end = s.find(',', start);
-    std::string item = s.substr(start, end == std::string::npos ? std::string::npos : end - start);
-    if (!item.empty()) out.push_back(item);
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return out;
+void print_scene_stats(const EmbreeStats& es) {
+  fmt::print(
+      stderr,
+      "scene: {} instances, {} unique triangles + {} leaf quads ({} + {} instanced); BVH {:.1f} MiB in {:.0f} ms\n",
+      es.instances, es.triangles, es.leaf_quads, es.instanced_triangles, es.instanced_leaf_quads,
+      es.bvh_bytes / 1048576.0, es.build_ms);
 }
 
-// Exposure for the preview: the median luminance of the visible band maps to 18% grey.
-float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& channels) {
-  const int r = image.find_channel(channels[0]), g = image.find_channel(channels[1]),
-            b = image.find_channel(channels[2]);
-  std::vector<float> lum;
-  lum.reserve(static_cast<size_t>(image.width) * image.height);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const float l = 0.2126f * image.at(x, y, r) + 0.7152f * image.at(x, y, g) + 0.0722f * image.at(x, y, b);
-      if (l > 0 && std::isfinite(l)) lum.push_back(l);
-    }
-  if (lum.empty()) return 0.0f;
-  std::nth_element(lum.begin(), lum.begin() + lum.size() / 2, lum.end());
-  return std::log2(0.18f / lum[lum.size() / 2]);
+void print_summary(const std::string& what, const RenderStats& total, double wall) {
+  fmt::print(stderr, "wrote {}: {} samples in {:.2f} s render ({:.2f} s total): {:.3f} M samples/s, {:.3f} M rays/s\n",
+             what, total.samples, total.seconds, wall, total.samples / std::max(1e-9, total.seconds) / 1e6,
+             total.rays / std::max(1e-9, total.seconds) / 1e6);
 }
 
-int run_render(const RenderOptions& opt) {
-  // From here on SIGINT/SIGTERM stop the render cleanly (a checkpoint is written).
-  const InterruptHandlers interrupt_handlers;
-  SceneFile file = opt.scene.empty() ? default_scene() : load_scene_file(opt.scene);
-  if (!opt.quiet)
-    for (const std::string& w : file.warnings) fmt::print(stderr, "{}\n", w);
-  // The scene file's settings, with the command line's overrides on top.
-  RenderSettings settings = render_settings(file);
-  if (!opt.res.empty()) {
-    int w = 0, h = 0;
-    char extra = 0;
-    if (std::sscanf(opt.res.c_str(), "%dx%d%c", &w, &h, &extra) != 2 || w <= 0 || h <= 0 || w > 65536 || h > 65536)
-      throw Error("--res: expected WIDTHxHEIGHT, e.g. 1280x720, not '" + opt.res + "'");
-    settings.width = w;
-    settings.height = h;
-  }
-  if (opt.spp > 0) settings.spp = opt.spp;
-  if (opt.seed >= 0) settings.seed = static_cast<uint64_t>(opt.seed);
-  settings.threads = opt.threads;
-  if (opt.max_depth > 0) settings.integrator.max_depth = opt.max_depth;
-  if (!opt.bands.empty()) settings.bands = resolve_bands(file, split_list(opt.bands));
-  settings.progress = !opt.quiet;
-
-  std::filesystem::path exr = !opt.exr.empty() ? std::filesystem::path(opt.exr) : file.output.exr;
-  if (exr.empty()) throw Error("no output file: give -o OUT.exr (or [output] exr = ... in the scene)");
-  std::filesystem::path png = !opt.png.empty() ? std::filesystem::path(opt.png) : file.output.png;
-
+// One image: a session that checkpoints and resumes. Returns the exit code.
+int render_image(const RenderOptions& opt, const RenderJob& job, const std::filesystem::path& exr,
+                 const std::filesystem::path& png, bool resume) {
   const auto t0 = std::chrono::steady_clock::now();
-  const EmbreeScene embree(file.scene);
-  const EmbreeStats& es = embree.stats();
   if (!opt.quiet)
-    fmt::print(
-        stderr,
-        "scene: {} instances, {} unique triangles + {} leaf quads ({} + {} instanced); BVH {:.1f} MiB in {:.0f} ms\n",
-        es.instances, es.triangles, es.leaf_quads, es.instanced_triangles, es.instanced_leaf_quads,
-        es.bvh_bytes / 1048576.0, es.build_ms);
+    for (const std::string& w : job.file.warnings) fmt::print(stderr, "{}\n", w);
+  const EmbreeScene embree(job.file.scene);
+  if (!opt.quiet) print_scene_stats(embree.stats());
   SessionOptions session_options;
   session_options.checkpoint = exr.string() + ".checkpoint";
-  session_options.key = checkpoint_key(file.content_hash, settings);
-  session_options.resume = opt.resume;
+  session_options.key = checkpoint_key(job.file.content_hash, job.settings);
+  session_options.resume = resume;
   session_options.checkpoint_minutes = opt.checkpoint_minutes;
   session_options.interrupt = &InterruptHandlers::flag();
-  RenderSession session(file.scene, embree, settings, session_options);
-  if (opt.resume && !opt.quiet)
+  RenderSession session(job.file.scene, embree, job.settings, session_options);
+  if (resume && !opt.quiet)
     fmt::print(stderr, "resuming from {} ({} samples)\n", session_options.checkpoint.string(),
                session.resumed_samples());
 
   const SessionResult result = session.run();
-  const RenderStats& total = result.stats;
   if (result.interrupted) {
     fmt::print(stderr,
                "\ninterrupted: checkpoint with {} samples written to {}; continue with the same command and --resume\n",
                result.film.total_samples(), session_options.checkpoint.string());
     return 130;
   }
-
-  const Renderer& renderer = session.renderer();
-  Image image = renderer.make_image(result.film);
-  annotate_render(image, file, settings);
-  write_exr(exr, image);
-
-  if (!png.empty()) {
-    PreviewOptions preview;
-    const bool has_rgb = image.find_channel("R") >= 0;
-    const std::string grey = renderer.radiance_channels().front();
-    if (!has_rgb) preview.channels = {grey, grey, grey};
-    preview.view = opt.view.empty() ? file.output.view : opt.view;
-    preview.exposure_ev = (opt.exposure_set ? opt.exposure : file.output.exposure_ev) +
-                          (file.output.auto_exposure ? auto_exposure_ev(image, preview.channels) : 0.0f);
-    write_png_preview(png, image, preview);
-  }
+  write_render_outputs(session.renderer(), result.film, job, exr, png, opt.preview);
   session.remove_checkpoint();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!opt.quiet)
-    fmt::print(stderr,
-               "wrote {}{}: {} samples in {:.2f} s render ({:.2f} s total): {:.3f} M samples/s, {:.3f} M rays/s\n",
-               exr.string(), png.empty() ? "" : " and " + png.string(), total.samples, total.seconds, wall,
-               total.samples / std::max(1e-9, total.seconds) / 1e6, total.rays / std::max(1e-9, total.seconds) / 1e6);
+    print_summary(exr.string() + (png.empty() ? "" : " and " + png.string()), result.stats,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;
+}
+
+// One chunk of a split render: its pixels and samples, saved as a partial file.
+int render_chunk(const RenderOptions& opt, RenderJob job, const std::filesystem::path& out) {
+  if (!opt.png.empty()) throw Error("--chunk writes a partial file; give --png to sylva merge");
+  if (opt.resume) throw Error("--chunk renders cannot be resumed; render the chunk again");
+  const auto t0 = std::chrono::steady_clock::now();
+  const ChunkSpec spec = parse_chunk(opt.chunk, opt.split);
+  if (!opt.quiet)
+    for (const std::string& w : job.file.warnings) fmt::print(stderr, "{}\n", w);
+  const ChunkWork work = chunk_work(spec, job.settings.width, job.settings.height, job.settings.spp);
+  job.settings.cancel = &InterruptHandlers::flag();
+  const EmbreeScene embree(job.file.scene);
+  if (!opt.quiet) print_scene_stats(embree.stats());
+  Renderer renderer(job.file.scene, embree, job.settings);
+  Film film = renderer.make_film(work.region, work.samples.first);
+  const RenderStats stats = renderer.render(film, work.region, work.samples);
+  if (stats.interrupted) {
+    fmt::print(stderr, "\ninterrupted: chunk {} not written\n", opt.chunk);
+    return 130;
+  }
+  PartialHeader header;
+  header.key = checkpoint_key(job.file.content_hash, job.settings);
+  header.chunk = spec;
+  header.spp = job.settings.spp;
+  header.job = describe_job(opt.request, job);
+  save_partial(out, header, film);
+  if (!opt.quiet)
+    print_summary(fmt::format("{} (chunk {}/{} by {})", out.string(), spec.index, spec.count, opt.split), stats,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  return 0;
+}
+
+// OUT.exr → OUT.0007.exr (at least four digits).
+std::filesystem::path frame_path(const std::filesystem::path& p, int frame) {
+  if (p.empty()) return p;
+  std::filesystem::path out = p;
+  out.replace_filename(fmt::format("{}.{:04d}{}", p.stem().string(), frame, p.extension().string()));
+  return out;
+}
+
+// Frames A..B (inclusive) of a wind animation; frames whose outputs exist are skipped.
+int render_frames(const RenderOptions& opt, const std::filesystem::path& exr, const std::filesystem::path& png) {
+  int first = 0, last = 0;
+  char extra = 0;
+  if (std::sscanf(opt.frames.c_str(), "%d:%d%c", &first, &last, &extra) != 2 || first < 0 || last < first ||
+      last > 9999999)
+    throw Error("--frames: expected FIRST:LAST with 0 <= FIRST <= LAST, e.g. 0:239, not '" + opt.frames + "'");
+  if (!opt.chunk.empty()) throw Error("--frames and --chunk cannot be combined");
+  int skipped = 0;
+  for (int frame = first; frame <= last; ++frame) {
+    const std::filesystem::path frame_exr = frame_path(exr, frame), frame_png = frame_path(png, frame);
+    // Outputs are written atomically, so an existing file is a complete one.
+    if (std::filesystem::exists(frame_exr) && (frame_png.empty() || std::filesystem::exists(frame_png))) {
+      ++skipped;
+      continue;
+    }
+    RenderRequest request = opt.request;
+    request.time_s = frame / opt.fps;
+    if (!opt.quiet) fmt::print(stderr, "frame {} (t = {:.4f} s)\n", frame, *request.time_s);
+    const bool resume = opt.resume && std::filesystem::exists(frame_exr.string() + ".checkpoint");
+    const int code = render_image(opt, prepare_render(request), frame_exr, frame_png, resume);
+    if (code != 0) return code;
+  }
+  if (!opt.quiet && skipped > 0) fmt::print(stderr, "{} frame(s) already rendered, skipped\n", skipped);
+  return 0;
+}
+
+int run_render(RenderOptions opt) {
+  // From here on SIGINT/SIGTERM stop the render cleanly (a checkpoint is written).
+  const InterruptHandlers interrupt_handlers;
+  opt.request.progress = !opt.quiet;
+  if (opt.exposure_set) opt.preview.exposure_ev = opt.exposure;
+  // Frames assemble the scene once per frame (and here only for the scene's output names); the
+  // other renders once, here.
+  std::optional<RenderJob> job;
+  if (opt.frames.empty() || opt.exr.empty() || (opt.png.empty() && opt.chunk.empty()))
+    job = prepare_render(opt.request);
+  const std::filesystem::path exr = !opt.exr.empty() ? std::filesystem::path(opt.exr) : job->file.output.exr;
+  const std::filesystem::path png =
+      !opt.png.empty() || !opt.chunk.empty() ? std::filesystem::path(opt.png) : job->file.output.png;
+  if (exr.empty()) throw Error("no output file: give -o OUT.exr (or [output] exr = ... in the scene)");
+  if (!opt.frames.empty()) return render_frames(opt, exr, png);
+  if (!opt.chunk.empty()) return render_chunk(opt, std::move(*job), exr);
+  return render_image(opt, *job, exr, png, opt.resume);
 }
 
 }  // namespace
 
 CommandRun add_render_command(CLI::App& parent) {
   auto opt = std::make_shared<RenderOptions>();
+  RenderRequest& req = opt->request;
   CLI::App* cmd = parent.add_subcommand("render", "Render a scene file (or the built-in default scene) to EXR and PNG");
-  cmd->add_option("scene", opt->scene, "Scene file (TOML); omit for the built-in default scene");
-  cmd->add_option("-o,--output", opt->exr, "Output EXR (written atomically)");
+  cmd->add_option("scene", req.scene, "Scene file (TOML); omit for the built-in default scene");
+  cmd->add_option("-o,--output", opt->exr, "Output EXR, or partial file with --chunk (written atomically)");
   cmd->add_option("--png", opt->png, "PNG preview of the visible band (OCIO display transform)");
-  cmd->add_option("--spp", opt->spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
-  cmd->add_option("--res", opt->res, "Resolution WIDTHxHEIGHT");
-  cmd->add_option("--threads", opt->threads, "Worker threads (0 = all)")->check(CLI::Range(0, 4096));
-  cmd->add_option("--seed", opt->seed, "Random seed")->check(CLI::Range(int64_t{0}, INT64_MAX));
-  cmd->add_option("--bands", opt->bands, "Comma-separated bands, e.g. rgb,nir,S2A_B8");
-  cmd->add_option("--max-depth", opt->max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
+  cmd->add_option("--spp", req.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
+  cmd->add_option("--res", req.res, "Resolution WIDTHxHEIGHT");
+  cmd->add_option("--threads", req.threads, "Worker threads (0 = all)")->check(CLI::Range(0, 4096));
+  cmd->add_option("--seed", req.seed, "Random seed")->check(CLI::Range(int64_t{0}, INT64_MAX));
+  cmd->add_option("--bands", req.bands, "Comma-separated bands, e.g. rgb,nir,S2A_B8");
+  cmd->add_option("--max-depth", req.max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
   cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes,
                   "Write a checkpoint this often (0 = only on interrupt)")
       ->check(CLI::Range(0.0, 1e6));
   cmd->add_option("--exposure", opt->exposure, "Preview exposure offset in stops")->each([opt](const std::string&) {
     opt->exposure_set = true;
   });
-  cmd->add_option("--view", opt->view, "Preview view transform (Standard, ACES, Raw)");
+  cmd->add_option("--view", opt->preview.view, "Preview view transform (Standard, ACES, Raw)");
   cmd->add_flag("--resume", opt->resume, "Continue from OUT.exr.checkpoint (left by an interrupted render)");
+  cmd->add_option("--chunk", opt->chunk, "Render only chunk i/N (0 <= i < N) to a partial file for sylva merge");
+  cmd->add_option("--split", opt->split, "How --chunk splits the work: samples (default) or tiles (bands of rows)")
+      ->check(CLI::IsMember({"samples", "tiles"}));
+  cmd->add_option("--frames", opt->frames,
+                  "Render frames FIRST:LAST of the trees' wind animation, one OUT.NNNN.exr each; existing frames "
+                  "are skipped");
+  cmd->add_option("--fps", opt->fps, "Frames per second of --frames (wind time = frame / fps)")
+      ->check(CLI::Range(1e-6, 1e6));
   cmd->add_flag("-q,--quiet", opt->quiet, "No progress bar or summary");
   return [opt] { return run_render(*opt); };
 }

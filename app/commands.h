@@ -16,5 +16,6 @@ CommandRun add_compare_command(CLI::App& parent);
 CommandRun add_tree_command(CLI::App& parent);
 CommandRun add_export_command(CLI::App& parent);
 CommandRun add_golden_command(CLI::App& parent);
+CommandRun add_merge_command(CLI::App& parent);
 
 }  // namespace sylva

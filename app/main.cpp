@@ -1,7 +1,7 @@
 // sylva: the command-line entry point (composition root).
 
-#include "core/error.h"
 #include "app/commands.h"
+#include "core/error.h"
 
 #include <fmt/core.h>
 
@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   std::vector<std::pair<CLI::App*, sylva::CommandRun>> commands;
   auto add = [&](sylva::CommandRun run) { commands.emplace_back(app.get_subcommands({}).back(), std::move(run)); };
   add(sylva::add_render_command(app));
+  add(sylva::add_merge_command(app));
   add(sylva::add_compare_command(app));
   add(sylva::add_tree_command(app));
   add(sylva::add_export_command(app));

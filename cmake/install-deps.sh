@@ -9,6 +9,8 @@ packages=(
   libopenimageio-dev libopenexr-dev python3-imath libopencolorio-dev
   libtomlplusplus-dev libpugixml-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libopenmpi-dev openmpi-bin  # sylva-mpi (optional at build time; CMake skips it without MPI)
+  slurm-wlm munge             # tests/slurm: a single-node cluster started in a temp dir (skipped if absent)
 )
 if [[ "${1:-}" == "--bench" ]]; then
   packages+=(embree-tools)

@@ -22,7 +22,7 @@ void write_pod(std::ostream& out, const T& v) {
   out.write(reinterpret_cast<const char*>(&v), sizeof(T));
 }
 template <typename T>
-void read_pod(std::ifstream& in, T& v) {
+void read_pod(std::istream& in, T& v) {
   in.read(reinterpret_cast<char*>(&v), sizeof(T));
 }
 template <typename T>
@@ -30,7 +30,7 @@ void write_vec(std::ostream& out, const std::vector<T>& v) {
   out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
 template <typename T>
-void read_vec(std::ifstream& in, std::vector<T>& v) {
+void read_vec(std::istream& in, std::vector<T>& v) {
   in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
 }
 }  // namespace
@@ -124,36 +124,40 @@ void Film::merge(const Film& other) {
 }
 
 void Film::save(const std::filesystem::path& file, const std::string& key) const {
-  write_file_atomic(file, [&](std::ostream& out) {
-    out.write(kMagic2, sizeof(kMagic2));
-    write_pod(out, static_cast<uint64_t>(key.size()));
-    out.write(key.data(), static_cast<std::streamsize>(key.size()));
-    for (const int v : {width_, height_, channels_, window_.x0, window_.y0, window_.x1, window_.y1})
-      write_pod(out, static_cast<int32_t>(v));
-    write_pod(out, first_sample_);
-    write_vec(out, count_);
-    write_vec(out, sum_);
-    write_vec(out, sum_sq_);
-    for (const std::vector<float>& values : samples_) write_vec(out, values);
-  });
+  write_file_atomic(file, [&](std::ostream& out) { write(out, key); });
+}
+
+void Film::write(std::ostream& out, const std::string& key) const {
+  out.write(kMagic2, sizeof(kMagic2));
+  write_pod(out, static_cast<uint64_t>(key.size()));
+  out.write(key.data(), static_cast<std::streamsize>(key.size()));
+  for (const int v : {width_, height_, channels_, window_.x0, window_.y0, window_.x1, window_.y1})
+    write_pod(out, static_cast<int32_t>(v));
+  write_pod(out, first_sample_);
+  write_vec(out, count_);
+  write_vec(out, sum_);
+  write_vec(out, sum_sq_);
+  for (const std::vector<float>& values : samples_) write_vec(out, values);
 }
 
 Film Film::load(const std::filesystem::path& file, const std::string& key) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file.string() + ": no checkpoint to resume from");
+  return read(in, key, file.string());
+}
+
+Film Film::read(std::istream& in, const std::string& key, const std::string& name) {
   char magic[sizeof(kMagic2)];
   in.read(magic, sizeof(magic));
   const bool v1 = in && std::memcmp(magic, kMagic1, sizeof(kMagic1)) == 0;
-  if (!in || (!v1 && std::memcmp(magic, kMagic2, sizeof(kMagic2)) != 0))
-    throw Error(file.string() + ": not a Sylva checkpoint");
+  if (!in || (!v1 && std::memcmp(magic, kMagic2, sizeof(kMagic2)) != 0)) throw Error(name + ": not a Sylva checkpoint");
   uint64_t key_size = 0;
   read_pod(in, key_size);
-  if (!in || key_size > (1u << 20)) throw Error(file.string() + ": corrupt checkpoint header");
+  if (!in || key_size > (1u << 20)) throw Error(name + ": corrupt checkpoint header");
   std::string stored(key_size, '\0');
   in.read(stored.data(), static_cast<std::streamsize>(key_size));
   if (stored != key)
-    throw Error(file.string() +
-                ": checkpoint is of a different render (scene, seed, resolution, bands or depth differ)");
+    throw Error(name + ": checkpoint is of a different render (scene, seed, resolution, bands or depth differ)");
   int32_t w = 0, h = 0, c = 0;
   read_pod(in, w);
   read_pod(in, h);
@@ -170,12 +174,12 @@ Film Film::load(const std::filesystem::path& file, const std::string& key) {
   }
   if (!in || w <= 0 || h <= 0 || c <= 0 || w > 65536 || h > 65536 || c > 1024 || window.empty() ||
       !PixelRegion::whole(w, h).contains(window))
-    throw Error(file.string() + ": corrupt checkpoint header");
+    throw Error(name + ": corrupt checkpoint header");
   Film film(w, h, c, window, first);
   read_vec(in, film.count_);
   read_vec(in, film.sum_);
   read_vec(in, film.sum_sq_);
-  if (!in) throw Error(file.string() + ": truncated checkpoint");
+  if (!in) throw Error(name + ": truncated checkpoint");
   if (film.keeps_samples()) {
     // The kept values must be exactly what the counts say the rest of the file holds.
     const auto here = in.tellg();
@@ -185,12 +189,12 @@ Film Film::load(const std::filesystem::path& file, const std::string& key) {
     uint64_t expected = 0;
     for (const uint32_t n : film.count_)
       expected += static_cast<uint64_t>(n) * static_cast<uint64_t>(c) * sizeof(float);
-    if (rest != expected) throw Error(file.string() + ": corrupt checkpoint (kept samples do not match the counts)");
+    if (rest != expected) throw Error(name + ": corrupt checkpoint (kept samples do not match the counts)");
     for (size_t p = 0; p < film.samples_.size(); ++p) {
       film.samples_[p].resize(static_cast<size_t>(film.count_[p]) * static_cast<size_t>(c));
       read_vec(in, film.samples_[p]);
     }
-    if (!in) throw Error(file.string() + ": truncated checkpoint");
+    if (!in) throw Error(name + ": truncated checkpoint");
   }
   return film;
 }

@@ -29,6 +29,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -108,6 +109,11 @@ class Film {
   // Written atomically. load throws sylva::Error on a mismatched key, size or a corrupt file.
   void save(const std::filesystem::path& file, const std::string& key) const;
   static Film load(const std::filesystem::path& file, const std::string& key);
+  // The same format on a stream, for files that embed a film after a header of their own (the
+  // partial files of render/chunk.h). read() expects the film to run to the end of the stream and
+  // names `name` in its errors.
+  void write(std::ostream& out, const std::string& key) const;
+  static Film read(std::istream& in, const std::string& key, const std::string& name);
 
  private:
   size_t pixel(int x, int y) const {

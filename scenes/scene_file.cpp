@@ -34,7 +34,8 @@ uint64_t hash_text(std::string_view text) { return mix64(fnv1a64(text)); }
 // each type reads its own parameters.
 class SceneParser {
  public:
-  SceneParser(const Params& root, std::filesystem::path base_dir) : root_(root), base_dir_(std::move(base_dir)) {}
+  SceneParser(const Params& root, std::filesystem::path base_dir, const SceneOptions& options)
+      : root_(root), base_dir_(std::move(base_dir)), options_(options) {}
 
   SceneFile parse() {
     using Section = void (SceneParser::*)(const Params&);
@@ -278,6 +279,7 @@ class SceneParser {
       TreeOptions options;
       options.quality = t->real("quality", 1.0, 0.01, 100.0);
       options.time_s = t->real("time", 0.0, -1e9, 1e9);
+      if (options_.time_s) options.time_s = *options_.time_s;
       const Vec2 wind = t->vec2("wind", Vec2(0.0f));
       if (wind.x < 0 || wind.y < 0) t->fail("wind", "wind = [speed, gust] must not be negative");
       options.wind_speed = wind.x;
@@ -406,6 +408,7 @@ class SceneParser {
 
   const Params& root_;
   std::filesystem::path base_dir_;
+  SceneOptions options_;
   SceneFile out_;
   std::map<std::string, uint32_t> material_ids_;
   std::map<std::string, std::vector<uint32_t>> tree_prototypes_;
@@ -426,27 +429,32 @@ FileResolver file_resolver(const std::filesystem::path& base_dir) {
 
 }  // namespace
 
-SceneFile parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base_dir) {
+SceneFile parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base_dir,
+                      const SceneOptions& options) {
   TomlReader reader(name);
   const toml::table document = reader.parse(text);
   const Params root = reader.to_params(document, "the scene", file_resolver(base_dir));
-  SceneParser parser(root, base_dir);
+  SceneParser parser(root, base_dir, options);
   SceneFile file = parser.parse();
-  file.content_hash = hex64(hash_ids(hash_text(text), parser.dependency_hash()));
+  uint64_t hash = hash_ids(hash_text(text), parser.dependency_hash());
+  if (options.time_s) hash = hash_ids(hash, hash_text(fmt::format("time {:a}", *options.time_s)));
+  file.content_hash = hex64(hash);
   return file;
 }
 
-SceneFile load_scene_file(const std::filesystem::path& path) {
+SceneFile load_scene_file(const std::filesystem::path& path, const SceneOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ParseError(path, 0, "cannot open scene file");
   std::stringstream ss;
   ss << in.rdbuf();
-  SceneFile f = parse_scene(ss.str(), path.string(), path.parent_path().empty() ? "." : path.parent_path());
+  SceneFile f = parse_scene(ss.str(), path.string(), path.parent_path().empty() ? "." : path.parent_path(), options);
   f.path = path;
   return f;
 }
 
-SceneFile default_scene() { return parse_scene(kDefaultSceneText, "<default scene>", data_dir()); }
+SceneFile default_scene(const SceneOptions& options) {
+  return parse_scene(kDefaultSceneText, "<default scene>", data_dir(), options);
+}
 
 std::vector<Band> resolve_bands(const SceneFile& file, const std::vector<std::string>& names) {
   std::vector<Band> bands;

@@ -37,13 +37,22 @@ struct SceneFile {
   std::vector<std::string> warnings;  // "file:line: warning: ..." from species files it reads
 };
 
+// How to assemble a scene beyond what its file says.
+struct SceneOptions {
+  // The time (s) of every [[trees]] table's wind sway, replacing its `time`: a frame of a wind
+  // animation (`sylva render --frames`). Part of the content hash, so checkpoints and partial
+  // renders of different frames never mix.
+  std::optional<double> time_s;
+};
+
 // Throws ParseError (file:line: ...) for any mistake in the file or in files it references.
-SceneFile load_scene_file(const std::filesystem::path& file);
+SceneFile load_scene_file(const std::filesystem::path& file, const SceneOptions& options = {});
 // Parses scene text; `name` is used in messages and relative paths resolve against `base_dir`
 // (then against Sylva's data directory).
-SceneFile parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base_dir);
+SceneFile parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base_dir,
+                      const SceneOptions& options = {});
 // The built-in default scene: ground, a few objects and a canopy of leaves under sun and sky.
-SceneFile default_scene();
+SceneFile default_scene(const SceneOptions& options = {});
 
 // Resolves band names against the file's custom bands, then the built-in ones.
 std::vector<Band> resolve_bands(const SceneFile& file, const std::vector<std::string>& names);

@@ -1,0 +1,230 @@
+// sylva-mpi: one render split across MPI ranks, `mpirun -n N sylva-mpi SCENE -o OUT.exr`.
+//
+// A separate binary rather than `sylva render --mpi`: linking MPI into `sylva` would make every
+// use of the everyday command (tests, compare, tree export) load libmpi and, run outside mpirun,
+// start an MPI singleton (slow, and noisy where no network is configured); and `sylva` must build
+// where OpenMPI is absent. This file is the only one that includes mpi.h.
+//
+// Every rank loads the scene and builds its BVH. The work is split into --chunks chunks (render/
+// chunk.h: by bands of rows or by sample ranges) handed out dynamically: each worker asks rank 0
+// for a chunk, renders it, and sends the film back with its next request, so a slow node takes
+// fewer chunks. Rank 0 hands out work from its main thread (the only thread that calls MPI) and
+// renders chunks itself on a second thread; it assembles the films in chunk order
+// (ChunkAssembler) — bit-identical to a single-process render for any N — and writes the EXR and
+// PNG. Every chunk it receives is also kept as a partial file in OUT.exr.parts/ (removed on
+// success): if a rank dies, mpirun ends the job with a message naming it, and the chunks already
+// finished can be merged or completed with `sylva render --chunk i/N` + `sylva merge`.
+
+#include "app/render_job.h"
+#include "core/error.h"
+#include "render/chunk.h"
+#include "render/session.h"
+
+#include <fmt/core.h>
+#include <mpi.h>
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstring>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+namespace sylva {
+
+namespace {
+
+constexpr int kTagWork = 1;    // worker → rank 0: [int32 finished chunk or -1] + film bytes
+constexpr int kTagAssign = 2;  // rank 0 → worker: int32 next chunk, or -1: no more work
+
+struct MpiOptions {
+  RenderRequest request;
+  std::string exr, png;
+  std::string split = "tiles";
+  int chunks = 0;
+  bool quiet = false;
+};
+
+// The chunks not handed out yet, shared by rank 0's coordinator and its own render thread.
+class ChunkQueue {
+ public:
+  explicit ChunkQueue(int count) {
+    for (int i = 0; i < count; ++i) queue_.push_back(i);
+  }
+  int take() {
+    std::lock_guard lock(mutex_);
+    if (queue_.empty()) return -1;
+    const int i = queue_.front();
+    queue_.pop_front();
+    return i;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::deque<int> queue_;
+};
+
+struct Context {
+  RenderJob job;
+  ChunkSplit split;
+  int chunks;
+  std::string key;
+  std::map<std::string, std::string> job_fields;
+};
+
+Film render_chunk(Renderer& renderer, const Context& ctx, int index) {
+  const ChunkWork work =
+      chunk_work({index, ctx.chunks, ctx.split}, ctx.job.settings.width, ctx.job.settings.height, ctx.job.settings.spp);
+  Film film = renderer.make_film(work.region, work.samples.first);
+  renderer.render(film, work.region, work.samples);
+  return film;
+}
+
+void worker(Renderer& renderer, const Context& ctx) {
+  std::string message(sizeof(int32_t), '\0');
+  int32_t done = -1;
+  while (true) {
+    std::memcpy(message.data(), &done, sizeof(done));
+    MPI_Send(message.data(), static_cast<int>(message.size()), MPI_BYTE, 0, kTagWork, MPI_COMM_WORLD);
+    int32_t next = -1;
+    MPI_Recv(&next, 1, MPI_INT32_T, 0, kTagAssign, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    if (next < 0) return;
+    const Film film = render_chunk(renderer, ctx, next);
+    std::ostringstream out;
+    out.write(reinterpret_cast<const char*>(&next), sizeof(next));
+    film.write(out, ctx.key);
+    message = std::move(out).str();
+    if (message.size() > static_cast<size_t>(INT32_MAX))
+      throw Error(fmt::format("chunk {} is larger than one MPI message (2 GiB): use more --chunks", next));
+    done = next;
+  }
+}
+
+int coordinator(Renderer& renderer, const Context& ctx, const MpiOptions& opt, int ranks) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ChunkQueue queue(ctx.chunks);
+  const RenderSettings& s = ctx.job.settings;
+  ChunkAssembler assembler(s.width, s.height, static_cast<int>(2 * renderer.radiance_channels().size()), ctx.chunks);
+  const std::filesystem::path spool = opt.exr + ".parts";
+  std::filesystem::create_directories(spool);
+  std::mutex assembler_mutex;
+  std::vector<int> chunks_by_rank(static_cast<size_t>(ranks), 0);
+  auto keep = [&](int index, Film film, int rank) {
+    PartialHeader header{ctx.key, {index, ctx.chunks, ctx.split}, s.spp, ctx.job_fields};
+    save_partial(spool / fmt::format("chunk.{}.of.{}.part", index, ctx.chunks), header, film);
+    std::lock_guard lock(assembler_mutex);
+    assembler.add(index, std::move(film));
+    ++chunks_by_rank[static_cast<size_t>(rank)];
+  };
+  // Rank 0 renders too, on its own thread (which makes no MPI calls).
+  std::exception_ptr local_error;
+  std::thread local([&] {
+    try {
+      for (int i = queue.take(); i >= 0; i = queue.take()) keep(i, render_chunk(renderer, ctx, i), 0);
+    } catch (...) {
+      local_error = std::current_exception();
+    }
+  });
+  int active = ranks - 1;
+  std::vector<char> buffer;
+  while (active > 0) {
+    int ready = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kTagWork, MPI_COMM_WORLD, &ready, &status);
+    if (!ready) {
+      // Polling with a sleep: a blocking receive would spin a core that rank 0's renderer needs.
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      continue;
+    }
+    int bytes = 0;
+    MPI_Get_count(&status, MPI_BYTE, &bytes);
+    buffer.resize(static_cast<size_t>(bytes));
+    MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagWork, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    int32_t finished = -1;
+    std::memcpy(&finished, buffer.data(), sizeof(finished));
+    if (finished >= 0) {
+      std::istringstream in(std::string(buffer.begin() + sizeof(int32_t), buffer.end()));
+      keep(finished, Film::read(in, ctx.key, fmt::format("chunk {} from rank {}", finished, status.MPI_SOURCE)),
+           status.MPI_SOURCE);
+    }
+    const int32_t next = queue.take();
+    MPI_Send(&next, 1, MPI_INT32_T, status.MPI_SOURCE, kTagAssign, MPI_COMM_WORLD);
+    if (next < 0) --active;
+  }
+  local.join();
+  if (local_error) std::rethrow_exception(local_error);
+  write_render_outputs(renderer, assembler.film(), ctx.job, opt.exr, opt.png, {});
+  std::filesystem::remove_all(spool);
+  if (!opt.quiet) {
+    std::string by_rank;
+    for (int r = 0; r < ranks; ++r) by_rank += fmt::format(" {}", chunks_by_rank[static_cast<size_t>(r)]);
+    fmt::print(stderr, "wrote {}: {} chunks by {} over {} ranks (chunks per rank:{}) in {:.2f} s\n", opt.exr,
+               ctx.chunks, to_string(ctx.split), ranks, by_rank,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return 0;
+}
+
+int run(const MpiOptions& opt, int rank, int ranks) {
+  Context ctx{prepare_render(opt.request), opt.split == "samples" ? ChunkSplit::samples : ChunkSplit::tiles, 0, {}, {}};
+  const RenderSettings& s = ctx.job.settings;
+  // Default: 8 chunks per rank (enough to balance uneven ranks), capped by what the split allows.
+  ctx.chunks = opt.chunks > 0 ? opt.chunks : std::min(8 * ranks, ctx.split == ChunkSplit::tiles ? s.height : s.spp);
+  chunk_work({0, ctx.chunks, ctx.split}, s.width, s.height, s.spp);  // throws if a chunk would be empty
+  ctx.key = checkpoint_key(ctx.job.file.content_hash, s);
+  ctx.job_fields = describe_job(opt.request, ctx.job);
+  const EmbreeScene embree(ctx.job.file.scene);
+  Renderer renderer(ctx.job.file.scene, embree, s);
+  if (rank == 0) return coordinator(renderer, ctx, opt, ranks);
+  worker(renderer, ctx);
+  return 0;
+}
+
+}  // namespace
+
+}  // namespace sylva
+
+int main(int argc, char** argv) {
+  int provided = 0;
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+
+  sylva::MpiOptions opt;
+  sylva::RenderRequest& req = opt.request;
+  CLI::App app{"sylva-mpi: one render split across MPI ranks (mpirun -n N sylva-mpi SCENE -o OUT.exr)"};
+  app.set_version_flag("--version", SYLVA_VERSION);
+  app.add_option("scene", req.scene, "Scene file (TOML); omit for the built-in default scene");
+  app.add_option("-o,--output", opt.exr, "Output EXR (written by rank 0)")->required();
+  app.add_option("--png", opt.png, "PNG preview of the visible band");
+  app.add_option("--spp", req.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
+  app.add_option("--res", req.res, "Resolution WIDTHxHEIGHT");
+  app.add_option("--threads", req.threads, "Worker threads per rank (0 = all)")->check(CLI::Range(0, 4096));
+  app.add_option("--seed", req.seed, "Random seed")->check(CLI::Range(int64_t{0}, INT64_MAX));
+  app.add_option("--bands", req.bands, "Comma-separated bands, e.g. rgb,nir,S2A_B8");
+  app.add_option("--max-depth", req.max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
+  app.add_option("--split", opt.split, "Chunks are bands of rows (tiles, default) or sample ranges (samples)")
+      ->check(CLI::IsMember({"samples", "tiles"}));
+  app.add_option("--chunks", opt.chunks, "Number of chunks handed out (default: 8 per rank)")
+      ->check(CLI::Range(1, 1 << 20));
+  app.add_flag("-q,--quiet", opt.quiet, "No summary");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // Every rank parsed the same arguments; rank 0 speaks for them.
+    const int code = rank == 0 ? app.exit(e) : e.get_exit_code();
+    MPI_Finalize();
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    sylva::run(opt, rank, ranks);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "sylva-mpi: rank {} of {}: {}\n", rank, ranks, e.what());
+    MPI_Abort(MPI_COMM_WORLD, 2);  // the other ranks would wait for this one forever
+  }
+  MPI_Finalize();
+  return 0;
+}
