@@ -118,3 +118,38 @@ else
   echo "FAIL: the merged EXR differs from the single-process render" >&2
   exit 1
 fi
+
+# Frames as an array job (scripts/slurm/frames.sbatch): 3 frames over 2 tasks equal a local
+# `--frames` render byte for byte, and a re-submitted array skips the finished frames.
+wait_for() {
+  for _ in $(seq 600); do
+    [[ -z $(squeue -h -j "$1" 2>/dev/null) ]] && return 0
+    sleep 0.5
+  done
+  return 1
+}
+mkdir -p "$work/local" "$work/anim"
+chmod 777 "$work/anim"
+"$sylva" render -o "$work/local/f.exr" --frames 0:2 --fps 24 "${args[@]}" --threads 1 --quiet || exit 1
+submit_frames() {
+  sbatch --parsable --array=0-1 --output="$work/frames-%A_%a.out" \
+    --export=ALL,SYLVA="$sylva",OUT="$work/anim/f.exr",FIRST=0,LAST=2,PER_TASK=2,FPS=24,RENDER_ARGS="${args[*]} --threads 1" \
+    "$repo/scripts/slurm/frames.sbatch"
+}
+frames=$(submit_frames) || exit 1
+wait_for "$frames" || { echo "FAIL: the frames array never finished" >&2; exit 1; }
+for f in 0000 0001 0002; do
+  if ! cmp "$work/local/f.$f.exr" "$work/anim/f.$f.exr"; then
+    echo "FAIL: frame $f of the Slurm array differs from the local render (or is missing):" >&2
+    tail -n 5 "$work"/frames-*.out >&2
+    exit 1
+  fi
+done
+before=$(stat -c %Y.%s "$work"/anim/f.000?.exr)
+frames=$(submit_frames) || exit 1
+wait_for "$frames" || { echo "FAIL: the re-submitted frames array never finished" >&2; exit 1; }
+if [[ "$before" != "$(stat -c %Y.%s "$work"/anim/f.000?.exr)" ]]; then
+  echo "FAIL: a re-submitted frames array rendered finished frames again" >&2
+  exit 1
+fi
+echo "ok: a 3-frame Slurm array equals the local --frames render and resumes by skipping finished frames"
