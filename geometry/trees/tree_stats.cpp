@@ -40,6 +40,16 @@ uint64_t hash_tree_mesh(const TreeMesh& mesh) {
   return h.value();
 }
 
+std::vector<int> count_stems_per_level(const TreeModel& model) {
+  std::vector<int> n;
+  for (size_t i = 0; i < model.stems.size(); ++i) {
+    const size_t level = model.stems.level[i];
+    if (n.size() <= level) n.resize(level + 1, 0);
+    ++n[level];
+  }
+  return n;
+}
+
 TreeStats compute_tree_stats(const TreeModel& model, const TreeMesh& mesh) {
   TreeStats s;
   for (size_t i = 0; i < model.stems.size(); ++i) {

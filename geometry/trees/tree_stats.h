@@ -31,6 +31,9 @@ uint64_t hash_tree_mesh(const TreeMesh& mesh);
 
 TreeStats compute_tree_stats(const TreeModel& model, const TreeMesh& mesh);
 
+// Stems per level (index = level, clones included), the `stems_per_level` of TreeStats.
+std::vector<int> count_stems_per_level(const TreeModel& model);
+
 // One JSON object; `generation_ms` is included when given (not in goldens: it is not exact).
 std::string tree_stats_json(const TreeStats& stats, const std::string& species, uint64_t seed,
                             std::optional<double> generation_ms = std::nullopt);

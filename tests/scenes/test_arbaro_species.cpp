@@ -5,6 +5,8 @@
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/species.h"
 
+#include "geometry/trees/tree_stats.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,15 +17,6 @@ namespace sylva {
 namespace {
 
 const std::filesystem::path kArbaro = std::filesystem::path(SYLVA_SOURCE_DIR) / "tests" / "data" / "arbaro";
-
-std::vector<int> stems_per_level(const TreeModel& m) {
-  std::vector<int> n;
-  for (size_t i = 0; i < m.stems.size(); ++i) {
-    if (n.size() <= m.stems.level[i]) n.resize(m.stems.level[i] + 1u, 0);
-    ++n[m.stems.level[i]];
-  }
-  return n;
-}
 
 // Children and leaves carried by each stem.
 struct PerStem {
@@ -43,7 +36,7 @@ TEST(ArbaroSpecies, TamarackCountsFollowArbarosFormulas) {
   ASSERT_EQ(std::get<WeberPennParams>(s.model).reading, wp::Reading::Arbaro);
   for (uint64_t seed = 1; seed <= 4; ++seed) {
     const TreeModel m = make_species_model(s, seed);
-    const std::vector<int> n = stems_per_level(m);
+    const std::vector<int> n = count_stems_per_level(m);
     ASSERT_EQ(n.size(), 3u);
     EXPECT_EQ(n[0], 1);
     EXPECT_NEAR(n[1], 75, 1);  // 1Branches over the trunk above BaseSize
@@ -83,7 +76,7 @@ TEST(ArbaroSpecies, CottonwoodCountsFollowArbarosFormulas) {
   const Species s = load_species(kArbaro / "eastern_cottonwood.xml");
   for (uint64_t seed = 1; seed <= 4; ++seed) {
     const TreeModel m = make_species_model(s, seed);
-    const std::vector<int> n = stems_per_level(m);
+    const std::vector<int> n = count_stems_per_level(m);
     ASSERT_EQ(n.size(), 3u);
     EXPECT_EQ(n[0], 4);
     EXPECT_NEAR(n[1], 40, 2);
@@ -101,7 +94,7 @@ TEST(ArbaroSpecies, WillowLeavesPerShootAndGround) {
   // LeafDistrib 3 (cylindrical): every level-3 shoot carries Leaves = 10, clones included.
   const Species s = load_species(kArbaro / "weeping_willow.xml");
   const TreeModel m = make_species_model(s, 1);
-  const std::vector<int> n = stems_per_level(m);
+  const std::vector<int> n = count_stems_per_level(m);
   ASSERT_EQ(n.size(), 4u);
   EXPECT_GE(n[0], 3);  // 0BaseSplits = 2
   const PerStem c = per_stem(m);

@@ -6,6 +6,8 @@
 #include "geometry/trees/weber_penn/weber_penn_shape.h"
 #include "tests/geometry/trees/wp_test_species.h"
 
+#include "geometry/trees/tree_stats.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,15 +30,6 @@ WeberPennParams bare_trunk() {
   p.leaves = 0;
   p.level[0].curve_res = 10;
   return p;
-}
-
-std::vector<int> stems_per_level(const TreeModel& m) {
-  std::vector<int> n;
-  for (size_t i = 0; i < m.stems.size(); ++i) {
-    if (n.size() <= m.stems.level[i]) n.resize(m.stems.level[i] + 1u, 0);
-    ++n[m.stems.level[i]];
-  }
-  return n;
 }
 
 Vec3 last_direction(const TreeModel& m, size_t stem) {
@@ -282,7 +275,7 @@ TEST(WeberPenn, QualityScalesLeafCountAndSize) {
   const TreeModel full = make_weber_penn_tree(p, 5);
   p.quality = 0.25f;
   const TreeModel low = make_weber_penn_tree(p, 5);
-  EXPECT_EQ(stems_per_level(full), stems_per_level(low));
+  EXPECT_EQ(count_stems_per_level(full), count_stems_per_level(low));
   EXPECT_NEAR(static_cast<double>(low.leaves.size()) / full.leaves.size(), 0.25, 0.03);
   EXPECT_NEAR(low.leaves.length_m[0], 0.17f / 0.5f, 1e-6f);
 }
@@ -331,7 +324,7 @@ TEST(WeberPenn, SameSeedBitIdenticalDifferentSeedSimilarCounts) {
 
     const TreeModel m1 = make_weber_penn_tree(p, 42), m2 = make_weber_penn_tree(p, 43);
     EXPECT_NE(m1.sections.positions.back(), m2.sections.positions.back());
-    const std::vector<int> n1 = stems_per_level(m1), n2 = stems_per_level(m2);
+    const std::vector<int> n1 = count_stems_per_level(m1), n2 = count_stems_per_level(m2);
     ASSERT_EQ(n1.size(), n2.size());
     for (size_t l = 0; l < n1.size(); ++l) EXPECT_NEAR(n1[l], n2[l], 0.35 * std::max(n1[l], n2[l]) + 2) << l;
   }
@@ -346,8 +339,8 @@ TEST(WeberPenn, WindMovesStemsWithoutChangingStructure) {
     const TreeModel t1 = make_weber_penn_tree(p, 8);
     p.wind.time_s = 2.0f;
     const TreeModel t2 = make_weber_penn_tree(p, 8);
-    EXPECT_EQ(stems_per_level(calm), stems_per_level(t1));
-    EXPECT_EQ(stems_per_level(t1), stems_per_level(t2));
+    EXPECT_EQ(count_stems_per_level(calm), count_stems_per_level(t1));
+    EXPECT_EQ(count_stems_per_level(t1), count_stems_per_level(t2));
     EXPECT_EQ(calm.leaves.size(), t1.leaves.size());
     EXPECT_EQ(calm.stems.length_m, t1.stems.length_m);
     EXPECT_NE(calm.sections.positions.back(), t1.sections.positions.back());
@@ -365,7 +358,7 @@ TEST(WeberPenn, LevelsDeeperThanThreeReuseLevelThree) {
   p.level[3].branches = 3;
   p.level[3].curve_res = 2;
   const TreeModel m = make_weber_penn_tree(p, 6);
-  const std::vector<int> n = stems_per_level(m);
+  const std::vector<int> n = count_stems_per_level(m);
   ASSERT_EQ(n.size(), 5u);
   EXPECT_GT(n[4], n[3]);
   for (size_t i = 0; i < m.stems.size(); ++i)
@@ -388,7 +381,7 @@ TEST(WeberPenn, FourAppendixSpeciesAreSensible) {
   for (const WeberPennParams& p :
        {test::quaking_aspen(), test::black_tupelo(), test::weeping_willow(), test::california_black_oak()}) {
     const TreeModel m = make_weber_penn_tree(p, 1);
-    const std::vector<int> n = stems_per_level(m);
+    const std::vector<int> n = count_stems_per_level(m);
     EXPECT_EQ(static_cast<int>(n.size()), p.levels);
     EXPECT_GT(m.leaves.size(), 1000u);
     for (const Vec3& q : m.sections.positions) ASSERT_TRUE(is_finite(q));
