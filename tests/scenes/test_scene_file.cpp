@@ -39,7 +39,7 @@ TEST(SceneFile, DefaultSceneParses) {
 }
 
 TEST(SceneFile, ExampleScenesParse) {
-  for (const char* name : {"default.toml", "aspen_grove.toml"}) {
+  for (const char* name : {"default.toml", "aspen_grove.toml", "tree_models.toml"}) {
     EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/data/examples/" + name)) << name;
   }
 }
