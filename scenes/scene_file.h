@@ -37,6 +37,10 @@ struct SceneFile {
   std::vector<std::string> warnings;  // "file:line: warning: ..." from species files it reads
 };
 
+// A tree's dead branches (TreeStems::dead) get the [[trees]] entry's `dead_bark` material, else a
+// copy of its bark with the reflectance scaled by this factor.
+inline constexpr float kDeadBarkReflectanceScale = 0.5f;
+
 // Throws ParseError (file:line: ...) for any mistake in the file or in files it references.
 SceneFile load_scene_file(const std::filesystem::path& file);
 // Parses scene text; `name` is used in messages and relative paths resolve against `base_dir`
