@@ -23,6 +23,7 @@ void append_mesh(TriangleMesh& dst, const TriangleMesh& src) {
 Bounds3 bounds_of(const TreeMesh& mesh) {
   Bounds3 b;
   for (const Vec3& p : mesh.stems.positions) b.extend(p);
+  for (const Vec3& p : mesh.dead_stems.positions) b.extend(p);
   for (const Vec3& p : mesh.leaves.corners) b.extend(p);
   return b;
 }

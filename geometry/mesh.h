@@ -38,6 +38,9 @@ struct LeafQuads {
 // (base of the trunk at the origin, Z up).
 struct TreeMesh {
   TriangleMesh stems;
+  // Dead branches' tubes when the mesher was asked to keep them apart (TreeMeshOptions::
+  // split_dead_stems), so a scene can give them their own bark; empty otherwise.
+  TriangleMesh dead_stems;
   LeafQuads leaves;
 };
 

@@ -18,6 +18,8 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 namespace sylva {
 
@@ -273,8 +275,8 @@ class SceneParser {
   // A TREE-MAKER species may omit `bark`, `leaf` and `flower`: its template's colours are used.
   void parse_trees(const Params& root) {
     for (const Params* t : root.tables("trees")) {
-      t->check_keys({"name", "species", "seed", "bark", "leaf", "flower", "quality", "time", "wind", "translate",
-                     "rotate", "scale", "object_id", "instances"});
+      t->check_keys({"name", "species", "seed", "bark", "dead_bark", "leaf", "flower", "quality", "time", "wind",
+                     "translate", "rotate", "scale", "object_id", "instances"});
       const std::filesystem::path file = t->file_path("species");
       TreeOptions options;
       options.quality = t->real("quality", 1.0, 0.01, 100.0);
@@ -290,6 +292,7 @@ class SceneParser {
       std::string key = fmt::format("{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
                                     options.wind_speed, options.wind_gust);
       for (const uint32_t m : materials) key += fmt::format("|{}", m);
+      if (t->has("dead_bark")) key += "|dead " + t->string("dead_bark");
       auto it = tree_prototypes_.find(key);
       if (it == tree_prototypes_.end()) {
         TreeModel model;
@@ -298,6 +301,7 @@ class SceneParser {
           model = make_species_model(species, seed, options);
           TreeMeshOptions mesh_options;
           mesh_options.quality = options.quality;
+          mesh_options.split_dead_stems = true;
           mesh = make_tree_mesh(model, mesh_options);
         } catch (const Error& e) {
           t->fail(file.string() + ": " + e.what());
@@ -317,10 +321,38 @@ class SceneParser {
           p = Prototype{};
           p.name = fmt::format("{} (leaf material {})", name, slot + 1);
         }
+        if (!mesh.dead_stems.triangles.empty()) {
+          Prototype dead;
+          dead.name = name + " (dead branches)";
+          dead.triangles = std::move(mesh.dead_stems);
+          dead.triangle_material = t->has("dead_bark") ? material_ref(*t, "dead_bark") : darker_bark(materials[0]);
+          protos.push_back(out_.scene.add_prototype(std::move(dead)));
+        }
         it = tree_prototypes_.emplace(key, std::move(protos)).first;
       }
       for (const uint32_t proto : it->second) place(*t, proto);
     }
+  }
+
+  // Dead branches' bark when the scene names none: a copy of `bark` with its reflectance halved
+  // (docs/scene_format.md), made once per bark material.
+  uint32_t darker_bark(uint32_t bark) {
+    const std::string name = out_.scene.material_names[bark] + " (dead, reflectance x0.5)";
+    auto found = material_ids_.find(name);
+    if (found != material_ids_.end()) return found->second;
+    Material m = out_.scene.materials[bark];
+    std::visit(
+        [](auto& mat) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(mat)>, DiffuseMaterial>) {
+            mat.reflectance *= kDeadBarkReflectanceScale;
+          } else {
+            mat.reflectance_front *= kDeadBarkReflectanceScale;
+            mat.reflectance_back *= kDeadBarkReflectanceScale;
+          }
+        },
+        m);
+    const uint32_t id = out_.scene.add_material(name, std::move(m));
+    return material_ids_[name] = id;
   }
 
   // The leaf quads of material slot `slot` (the last slot also takes every slot beyond it), in

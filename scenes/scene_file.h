@@ -45,6 +45,10 @@ struct SceneOptions {
   std::optional<double> time_s;
 };
 
+// A tree's dead branches (TreeStems::dead) get the [[trees]] entry's `dead_bark` material, else a
+// copy of its bark with the reflectance scaled by this factor.
+inline constexpr float kDeadBarkReflectanceScale = 0.5f;
+
 // Throws ParseError (file:line: ...) for any mistake in the file or in files it references.
 SceneFile load_scene_file(const std::filesystem::path& file, const SceneOptions& options = {});
 // Parses scene text; `name` is used in messages and relative paths resolve against `base_dir`

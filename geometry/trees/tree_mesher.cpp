@@ -31,7 +31,7 @@ int radial_segments_for_level(const TreeMeshOptions& options, int level, int lob
 
 TreeMesh make_tree_mesh(const TreeModel& model, const TreeMeshOptions& options) {
   TreeMesh mesh;
-  TriangleMesh& out = mesh.stems;
+  TriangleMesh& live = mesh.stems;
   const TreeStems& stems = model.stems;
   const StemSections& sec = model.sections;
 
@@ -42,10 +42,10 @@ TreeMesh make_tree_mesh(const TreeModel& model, const TreeMeshOptions& options) 
     vertex_estimate += stems.section_count[s] * (m + 1) + 2;
     triangle_estimate += stems.section_count[s] * 2 * m;
   }
-  out.positions.reserve(vertex_estimate);
-  out.normals.reserve(vertex_estimate);
-  out.uvs.reserve(vertex_estimate);
-  out.triangles.reserve(triangle_estimate);
+  live.positions.reserve(vertex_estimate);
+  live.normals.reserve(vertex_estimate);
+  live.uvs.reserve(vertex_estimate);
+  live.triangles.reserve(triangle_estimate);
 
   RingTrig trig;
   std::vector<Vec3> tangents;
@@ -53,6 +53,7 @@ TreeMesh make_tree_mesh(const TreeModel& model, const TreeMeshOptions& options) 
     const uint32_t first = stems.first_section[s];
     const uint32_t count = stems.section_count[s];
     if (count < 2) continue;
+    TriangleMesh& out = options.split_dead_stems && stems.is_dead(s) ? mesh.dead_stems : live;
     const int m = radial_segments_for_level(options, stems.level[s], stems.lobes[s]);
     const float lobe_depth = stems.lobe_depth[s];
     const int lobes = stems.lobes[s];

@@ -14,6 +14,10 @@ struct TreeMeshOptions {
   // Scales the radial resolution (Weber & Penn §4.5 quality factor); at least 3 around.
   float quality = 1.0f;
   bool leaves = true;
+  // Mesh dead stems (TreeStems::dead) into TreeMesh::dead_stems instead of TreeMesh::stems. Off by
+  // default so exports and geometry statistics see every stem in one mesh; scene assembly turns
+  // it on to draw dead wood with its own material (docs/scene_format.md).
+  bool split_dead_stems = false;
 };
 
 // Every stem becomes one closed tube (watertight on its own): a fan cap at its base, one ring per

@@ -35,6 +35,13 @@ uint64_t hash_tree_mesh(const TreeMesh& mesh) {
   h.add_vector(mesh.stems.normals);
   h.add_vector(mesh.stems.uvs);
   h.add_vector(mesh.stems.triangles);
+  // Only a split mesh hashes its dead stems, so unsplit meshes keep their hashes.
+  if (!mesh.dead_stems.triangles.empty()) {
+    h.add_vector(mesh.dead_stems.positions);
+    h.add_vector(mesh.dead_stems.normals);
+    h.add_vector(mesh.dead_stems.uvs);
+    h.add_vector(mesh.dead_stems.triangles);
+  }
   h.add_vector(mesh.leaves.corners);
   h.add_vector(mesh.leaves.shapes);
   return h.value();
@@ -62,8 +69,8 @@ TreeStats compute_tree_stats(const TreeModel& model, const TreeMesh& mesh) {
     if (model.stems.is_clone(i)) ++s.clones_per_level[level];
   }
   s.leaves = static_cast<int>(model.leaves.size());
-  s.vertices = mesh.stems.positions.size();
-  s.triangles = mesh.stems.triangles.size();
+  s.vertices = mesh.stems.positions.size() + mesh.dead_stems.positions.size();
+  s.triangles = mesh.stems.triangles.size() + mesh.dead_stems.triangles.size();
   s.quads = mesh.leaves.size();
   s.bounds = bounds_of(mesh);
   s.height_m = s.bounds.empty() ? 0.0f : s.bounds.hi.z - s.bounds.lo.z;

@@ -49,11 +49,11 @@ TEST_P(Golden, MatchesReferenceAndDeterminismHash) {
 
 INSTANTIATE_TEST_SUITE_P(All, Golden,
                          ::testing::Values("alpha_shadows", "ground_sky", "ground_sun", "instancing", "leaf_below",
-                                           "tree_aspen"));
+                                           "tree_aspen", "tree_aspen_grammar", "tree_dogwood", "tree_lsystem"));
 
 TEST(GoldenSuite, EveryCaseIsListed) {
   // A case added under golden/scenes must be added to the list above.
-  EXPECT_EQ(list_golden_cases(kGolden).size(), 6u);
+  EXPECT_EQ(list_golden_cases(kGolden).size(), 9u);
 }
 
 void expect_rejected(const std::string& name, const std::string& fault, const GoldenCheck& r) {

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <variant>
 
 namespace sylva {
 namespace {
@@ -39,7 +40,7 @@ TEST(SceneFile, DefaultSceneParses) {
 }
 
 TEST(SceneFile, ExampleScenesParse) {
-  for (const char* name : {"default.toml", "aspen_grove.toml"}) {
+  for (const char* name : {"default.toml", "aspen_grove.toml", "tree_models.toml"}) {
     EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/data/examples/" + name)) << name;
   }
 }
@@ -66,6 +67,45 @@ translate = [10, 0, 0]
   EXPECT_EQ(f.scene.instances[1].object_id, 4u);
   EXPECT_GT(f.scene.prototypes[0].leaves.size(), 100u);
   EXPECT_GT(f.scene.prototypes[0].triangles.triangles.size(), 100u);
+}
+
+TEST(SceneFile, DeadBranchesGetDarkerBark) {
+  // The aspen grammar flags dead branches; they become their own prototype, with the bark's
+  // reflectance halved unless the entry names `dead_bark`.
+  const std::string tree = R"(
+[[trees]]
+species = "../species/quaking_aspen.grammar"
+seed = 3
+bark = "grey"
+leaf = "grey"
+)";
+  const SceneFile f = parse_scene(kHeader + tree, "dead.toml", SYLVA_SOURCE_DIR "/data/examples");
+  ASSERT_EQ(f.scene.prototypes.size(), 2u);
+  const Prototype& dead = f.scene.prototypes[1];
+  EXPECT_GT(dead.triangles.triangles.size(), 0u);
+  EXPECT_EQ(dead.leaves.size(), 0u);
+  const uint32_t bark = f.scene.prototypes[0].triangle_material;
+  ASSERT_NE(dead.triangle_material, bark);
+  const auto& live_rho = std::get<DiffuseMaterial>(f.scene.materials[bark]).reflectance;
+  const auto& dead_rho = std::get<DiffuseMaterial>(f.scene.materials[dead.triangle_material]).reflectance;
+  for (const float lambda : {400.0f, 550.0f, 700.0f, 850.0f})
+    EXPECT_FLOAT_EQ(dead_rho.eval(lambda), kDeadBarkReflectanceScale * live_rho.eval(lambda)) << lambda;
+
+  const SceneFile named = parse_scene(kHeader + "[materials.ash]\nreflectance = 0.1\n" + tree + "dead_bark = \"ash\"\n",
+                                      "dead.toml", SYLVA_SOURCE_DIR "/data/examples");
+  ASSERT_EQ(named.scene.prototypes.size(), 2u);
+  EXPECT_EQ(named.scene.material_names[named.scene.prototypes[1].triangle_material], "ash");
+  EXPECT_EQ(named.scene.prototypes[1].triangles.triangles.size(), dead.triangles.triangles.size());
+
+  // A tree without dead branches keeps one prototype.
+  const SceneFile wp = parse_scene(kHeader + R"(
+[[trees]]
+species = "../species/quaking_aspen.toml"
+bark = "grey"
+leaf = "grey"
+)",
+                                   "alive.toml", SYLVA_SOURCE_DIR "/data/examples");
+  EXPECT_EQ(wp.scene.prototypes.size(), 1u);
 }
 
 TEST(SceneFile, MeshFilesFromObjAndPly) {

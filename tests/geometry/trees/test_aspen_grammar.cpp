@@ -7,11 +7,14 @@
 #include "core/error.h"
 #include "geometry/trees/lsystem/aspen_grammar.h"
 #include "geometry/trees/tree_mesher.h"
+#include "geometry/trees/tree_stats.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <set>
 
 namespace sylva {
@@ -194,6 +197,35 @@ TEST(AspenGrammar, DeadBranchesAreShortBareAndChildless) {
     }
   EXPECT_GT(tips, 100);
   EXPECT_EQ(leaves[0], p.leaves_per_cluster);  // the leader's tip
+}
+
+TEST(AspenGrammar, DeadStemsMeshApartOnlyWhenAsked) {
+  const TreeModel m = make_aspen_grammar_tree({}, 3);
+  TreeMeshOptions split;
+  split.split_dead_stems = true;
+  const TreeMesh one = make_tree_mesh(m), two = make_tree_mesh(m, split);
+  EXPECT_TRUE(one.dead_stems.triangles.empty());
+  ASSERT_FALSE(two.dead_stems.triangles.empty());
+  EXPECT_EQ(two.stems.triangles.size() + two.dead_stems.triangles.size(), one.stems.triangles.size());
+  // Every dead-mesh vertex lies on a dead stem: a ring vertex at a section's radius from it, a cap
+  // or tip vertex on it (the grammar's stems have no lobes).
+  const StemSections& sec = m.sections;
+  for (const Vec3& q : two.dead_stems.positions) {
+    float best = std::numeric_limits<float>::infinity();
+    for (size_t s = 0; s < m.stems.size(); ++s) {
+      if (!m.stems.is_dead(s)) continue;
+      for (uint32_t k = 0; k < m.stems.section_count[s]; ++k) {
+        const uint32_t i = m.stems.first_section[s] + k;
+        best = std::min(best, glm::length(q - sec.positions[i]) - sec.radius_m[i]);
+      }
+    }
+    ASSERT_LE(best, 1e-3f);
+  }
+  // A tree without dead stems meshes identically (same hash) with or without the split.
+  TreeModel alive = m;
+  std::fill(alive.stems.dead.begin(), alive.stems.dead.end(), uint8_t{0});
+  EXPECT_EQ(hash_tree_mesh(make_tree_mesh(alive, split)), hash_tree_mesh(make_tree_mesh(alive)));
+  EXPECT_NE(hash_tree_mesh(two), hash_tree_mesh(one));
 }
 
 TEST(AspenGrammar, MeshesIntoTubesAndRejectsRunawayTrees) {
