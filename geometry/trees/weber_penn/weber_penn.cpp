@@ -41,13 +41,13 @@ Frame rotate_z(const Frame& f, float a) {
   const float c = std::cos(a), s = std::sin(a);
   return Frame{c * f.x + s * f.y, c * f.y - s * f.x, f.z};
 }
-// Rodrigues rotation of v about the unit axis k.
-Vec3 rotate_vector(const Vec3& v, const Vec3& k, float a) {
-  const float c = std::cos(a), s = std::sin(a);
+// Rodrigues rotation of v about the unit axis k by the angle whose cosine and sine are c and s.
+Vec3 rotate_vector(const Vec3& v, const Vec3& k, float c, float s) {
   return v * c + glm::cross(k, v) * s + k * (glm::dot(k, v) * (1.0f - c));
 }
 Frame rotate_axis(const Frame& f, const Vec3& k, float a) {
-  return Frame{rotate_vector(f.x, k, a), rotate_vector(f.y, k, a), rotate_vector(f.z, k, a)};
+  const float c = std::cos(a), s = std::sin(a);
+  return Frame{rotate_vector(f.x, k, c, s), rotate_vector(f.y, k, c, s), rotate_vector(f.z, k, c, s)};
 }
 // Rotation of a frame about the tree's vertical axis.
 Frame rotate_about_vertical(const Frame& f, float a) {
@@ -156,6 +156,10 @@ class Builder {
         lengths_(lengths),
         pruned_(pruned_lengths),
         ground_(!params.asks_below_ground()) {
+    // §4.5 leaf size: LeafScale/√quality by LeafScale·LeafScaleX/√quality.
+    const float q = std::sqrt(std::max(1e-6f, p_.quality * p_.leaf_quality));
+    leaf_length_ = p_.leaf_scale / q;
+    leaf_width_ = p_.leaf_scale * p_.leaf_scale_x / q;
     const size_t n = static_cast<size_t>(std::max(1, p_.levels)) + 1;
     split_error_.assign(n, 0.0f);
     plans_.resize(n);
@@ -657,10 +661,7 @@ class Builder {
     const float u_rot = rng.symmetric();
     Frame f = orient_child(parent_frame, lp, p_.reading, ratio, u_down, u_rot, fan, fan_deg, s.leaf_rotate_deg,
                            s.leaf_alternate);
-    // §4.5 leaf size: LeafScale/√quality by LeafScale·LeafScaleX/√quality.
-    const float q = std::sqrt(std::max(1e-6f, p_.quality * p_.leaf_quality));
-    const float length = p_.leaf_scale / q;
-    const float width = p_.leaf_scale * p_.leaf_scale_x / q;
+    const float length = leaf_length_, width = leaf_width_;
     const Vec3 pos = axis_pos + f.z * (p_.leaf_stem_len * length);
     bend_leaf(f, pos);
     const Vec3 at = ground_ ? lift_leaf(f, pos, length, width) : pos;
@@ -750,6 +751,7 @@ class Builder {
   float scale_tree_ = 1.0f;
   float z_scale_ = 1.0f;
   float length_base_ = 0.0f;
+  float leaf_length_ = 0.0f, leaf_width_ = 0.0f;
   std::vector<float> split_error_;                   // §4.2 error diffusion, per level
   std::vector<std::vector<SplitNode>> plans_;        // the split plan of the family being formed, per level
   std::vector<size_t> plan_size_;                    // entries of plans_ in use, per level
