@@ -1,6 +1,8 @@
 // Arbaro's own species files (tests/data/arbaro, GPL test inputs), generated under Arbaro's
 // reading: stem and leaf counts per level against figures derived from Arbaro's algorithm
-// (StemImpl.prepareSubstemParams, makeSubstems, makeLeaves) where it is deterministic.
+// (StemImpl.prepareSubstemParams, makeSubstems, makeLeaves, makeClones): per stem where it is
+// deterministic (tamarack, cottonwood, willow), and for all 16 files averaged over seeds, with
+// trunk heights and the ground.
 
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/species.h"
@@ -116,10 +118,8 @@ TEST(ArbaroSpecies, WillowLeavesPerShootAndGround) {
   for (const Vec3& q : mesh.leaves.corners) ASSERT_GE(q.z, -1e-4f);
 }
 
-// All 16 of Arbaro's species files, generated under Arbaro's reading (their default): stems per
-// level, leaves and trunk heights averaged over seeds against figures derived from Arbaro's
-// algorithm (StemImpl.prepareSubstemParams, makeSubstems, makeLeaves, makeClones, newDirection;
-// TreeImpl.make), and no geometry below the ground.
+// Expected counts for all 16 files, derived from Arbaro's algorithm (StemImpl.prepareSubstemParams,
+// makeSubstems, makeLeaves, makeClones, newDirection; TreeImpl.make).
 
 namespace arbaro_expectation {
 
