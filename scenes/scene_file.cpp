@@ -275,8 +275,8 @@ class SceneParser {
   // A TREE-MAKER species may omit `bark`, `leaf` and `flower`: its template's colours are used.
   void parse_trees(const Params& root) {
     for (const Params* t : root.tables("trees")) {
-      t->check_keys({"name", "species", "seed", "bark", "dead_bark", "leaf", "flower", "quality", "time", "wind",
-                     "translate", "rotate", "scale", "object_id", "instances"});
+      t->check_keys({"name", "species", "seed", "bark", "dead_bark", "leaf", "flower", "leaves", "quality", "time",
+                     "wind", "translate", "rotate", "scale", "object_id", "instances"});
       const std::filesystem::path file = t->file_path("species");
       TreeOptions options;
       options.quality = t->real("quality", 1.0, 0.01, 100.0);
@@ -287,10 +287,12 @@ class SceneParser {
       options.wind_speed = wind.x;
       options.wind_gust = wind.y;
       const uint64_t seed = static_cast<uint64_t>(t->integer("seed", 1, 0, INT64_MAX));
+      // `leaves = false`: the stems only (a bare tree, e.g. for a silhouette of the branching).
+      const bool with_leaves = t->boolean("leaves", true);
       const Species& species = load_species_once(file);
-      const std::vector<uint32_t> materials = tree_materials(*t, species);
-      std::string key = fmt::format("{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
-                                    options.wind_speed, options.wind_gust);
+      const std::vector<uint32_t> materials = tree_materials(*t, species, with_leaves);
+      std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
+                                    options.wind_speed, options.wind_gust, with_leaves);
       for (const uint32_t m : materials) key += fmt::format("|{}", m);
       if (t->has("dead_bark")) key += "|dead " + t->string("dead_bark");
       auto it = tree_prototypes_.find(key);
@@ -302,6 +304,7 @@ class SceneParser {
           TreeMeshOptions mesh_options;
           mesh_options.quality = options.quality;
           mesh_options.split_dead_stems = true;
+          mesh_options.leaves = with_leaves;
           mesh = make_tree_mesh(model, mesh_options);
         } catch (const Error& e) {
           t->fail(file.string() + ": " + e.what());
@@ -374,11 +377,13 @@ class SceneParser {
   // TREE-MAKER species fills what the scene leaves out with its template's colours (docs/treemaker.md:
   // Smits up-sampling; bark diffuse, elements opaque two-sided leaves). Other models need `bark`
   // and `leaf`; `flower` is then unused.
-  std::vector<uint32_t> tree_materials(const Params& t, const Species& species) {
+  // A tree drawn without leaves (`leaves = false`) may leave out `leaf`.
+  std::vector<uint32_t> tree_materials(const Params& t, const Species& species, bool with_leaves) {
     const TreeMakerTemplate* tm = std::get_if<TreeMakerTemplate>(&species.model);
     if (tm == nullptr) {
       if (t.has("flower")) t.fail("flower", "'flower' is for models with flowers (TREE-MAKER templates)");
-      return {material_ref(t, "bark"), material_ref(t, "leaf")};
+      const uint32_t bark = material_ref(t, "bark");
+      return {bark, with_leaves || t.has("leaf") ? material_ref(t, "leaf") : bark};
     }
     const TreeMakerMaterials colours = treemaker_materials(*tm);
     const auto from_template = [&](const std::string& what, bool leaf, const Vec3& rgb) {

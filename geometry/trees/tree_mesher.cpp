@@ -16,7 +16,10 @@ Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
   return l > 1e-12f ? v / l : fallback;
 }
 
+// cos, sin and the lobe factor around a ring of m vertices, kept while consecutive stems share them.
 struct RingTrig {
+  int m = -1, lobes = -1;
+  float lobe_depth = 0.0f;
   std::vector<float> cos_t, sin_t, lobe;
 };
 
@@ -57,15 +60,20 @@ TreeMesh make_tree_mesh(const TreeModel& model, const TreeMeshOptions& options) 
     const int m = radial_segments_for_level(options, stems.level[s], stems.lobes[s]);
     const float lobe_depth = stems.lobe_depth[s];
     const int lobes = stems.lobes[s];
-    trig.cos_t.resize(static_cast<size_t>(m) + 1);
-    trig.sin_t.resize(static_cast<size_t>(m) + 1);
-    trig.lobe.resize(static_cast<size_t>(m) + 1);
-    for (int j = 0; j <= m; ++j) {
-      const float theta = kTwoPi * static_cast<float>(j % m) / static_cast<float>(m);
-      trig.cos_t[static_cast<size_t>(j)] = std::cos(theta);
-      trig.sin_t[static_cast<size_t>(j)] = std::sin(theta);
-      trig.lobe[static_cast<size_t>(j)] =
-          lobes > 0 ? 1.0f + lobe_depth * std::sin(static_cast<float>(lobes) * theta) : 1.0f;
+    if (m != trig.m || lobes != trig.lobes || lobe_depth != trig.lobe_depth) {
+      trig.m = m;
+      trig.lobes = lobes;
+      trig.lobe_depth = lobe_depth;
+      trig.cos_t.resize(static_cast<size_t>(m) + 1);
+      trig.sin_t.resize(static_cast<size_t>(m) + 1);
+      trig.lobe.resize(static_cast<size_t>(m) + 1);
+      for (int j = 0; j <= m; ++j) {
+        const float theta = kTwoPi * static_cast<float>(j % m) / static_cast<float>(m);
+        trig.cos_t[static_cast<size_t>(j)] = std::cos(theta);
+        trig.sin_t[static_cast<size_t>(j)] = std::sin(theta);
+        trig.lobe[static_cast<size_t>(j)] =
+            lobes > 0 ? 1.0f + lobe_depth * std::sin(static_cast<float>(lobes) * theta) : 1.0f;
+      }
     }
     const float v_scale = 1.0f / (kTwoPi * std::max(stems.base_radius_m[s], 1e-6f));
 

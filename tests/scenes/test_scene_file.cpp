@@ -69,6 +69,32 @@ translate = [10, 0, 0]
   EXPECT_GT(f.scene.prototypes[0].triangles.triangles.size(), 100u);
 }
 
+TEST(SceneFile, LeavesFalseDrawsTheStemsOnly) {
+  // `leaves = false`: the same stems, no leaf quads; `leaf` may be left out; a prototype of its own.
+  const std::string text = kHeader + R"(
+[[trees]]
+species = "../species/quaking_aspen.toml"
+seed = 3
+bark = "grey"
+leaf = "grey"
+
+[[trees]]
+species = "../species/quaking_aspen.toml"
+seed = 3
+bark = "grey"
+leaves = false
+translate = [10, 0, 0]
+)";
+  const SceneFile f = parse_scene(text, "bare.toml", SYLVA_SOURCE_DIR "/data/examples");
+  ASSERT_EQ(f.scene.prototypes.size(), 2u);
+  EXPECT_GT(f.scene.prototypes[0].leaves.size(), 100u);
+  EXPECT_EQ(f.scene.prototypes[1].leaves.size(), 0u);
+  EXPECT_EQ(f.scene.prototypes[1].triangles.triangles.size(), f.scene.prototypes[0].triangles.triangles.size());
+  EXPECT_NE(error_of(kHeader + "[[trees]]\nspecies = \"../species/quaking_aspen.toml\"\nbark = \"grey\"\nleaves = 1\n"),
+            "");
+  EXPECT_NE(error_of(kHeader + "[[trees]]\nspecies = \"../species/quaking_aspen.toml\"\nbark = \"grey\"\n"), "");
+}
+
 TEST(SceneFile, DeadBranchesGetDarkerBark) {
   // The aspen grammar flags dead branches; they become their own prototype, with the bark's
   // reflectance halved unless the entry names `dead_bark`.

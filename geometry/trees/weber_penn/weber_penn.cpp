@@ -17,9 +17,12 @@ namespace {
 constexpr size_t kMaxStems = 1'000'000;
 constexpr size_t kMaxLeaves = 10'000'000;
 
-// Stems shorter or thinner than this are not formed (as in Arbaro).
-constexpr float kMinStemLength = 0.0005f;
-constexpr float kMinStemRadius = 0.00002f;
+// Stems shorter or thinner than this are not formed (Arbaro's MIN_STEM_LEN and MIN_STEM_RADIUS:
+// small plants such as Arbaro's rush have stems under a millimetre).
+constexpr float kMinStemLength = 0.00001f;
+constexpr float kMinStemRadius = 0.000001f;
+// Pruning (§4.6) gives up on a stem shrunk below half a millimetre.
+constexpr float kMinPrunedLength = 0.0005f;
 // Rings of the trunk's flared base (flare_Z is non-trivial for Z < 1/8).
 constexpr float kFlareZ[] = {0.005f, 0.012f, 0.022f, 0.035f, 0.05f, 0.07f, 0.095f, 0.125f};
 // Rings of a rounded stem end (nTaper in (1, 3)).
@@ -38,13 +41,13 @@ Frame rotate_z(const Frame& f, float a) {
   const float c = std::cos(a), s = std::sin(a);
   return Frame{c * f.x + s * f.y, c * f.y - s * f.x, f.z};
 }
-// Rodrigues rotation of v about the unit axis k.
-Vec3 rotate_vector(const Vec3& v, const Vec3& k, float a) {
-  const float c = std::cos(a), s = std::sin(a);
+// Rodrigues rotation of v about the unit axis k by the angle whose cosine and sine are c and s.
+Vec3 rotate_vector(const Vec3& v, const Vec3& k, float c, float s) {
   return v * c + glm::cross(k, v) * s + k * (glm::dot(k, v) * (1.0f - c));
 }
 Frame rotate_axis(const Frame& f, const Vec3& k, float a) {
-  return Frame{rotate_vector(f.x, k, a), rotate_vector(f.y, k, a), rotate_vector(f.z, k, a)};
+  const float c = std::cos(a), s = std::sin(a);
+  return Frame{rotate_vector(f.x, k, c, s), rotate_vector(f.y, k, c, s), rotate_vector(f.z, k, c, s)};
 }
 // Rotation of a frame about the tree's vertical axis.
 Frame rotate_about_vertical(const Frame& f, float a) {
@@ -119,7 +122,7 @@ struct StemState {
   float parent_length = 0.0f;
   float length_child_max = 1.0f;
   float split_correction_deg = 0.0f;
-  bool halved_splits = false;  // §4.3: a cloned stem or a clone splits half as often
+  int plan_node = -1;  // this stem's entry in its family's split plan (Builder::plan_family)
   uint64_t seed = 0;
   Pcg32 rng;
   float sway_offset_x = 0.0f, sway_offset_y = 0.0f;
@@ -153,8 +156,14 @@ class Builder {
         lengths_(lengths),
         pruned_(pruned_lengths),
         ground_(!params.asks_below_ground()) {
+    // §4.5 leaf size: LeafScale/√quality by LeafScale·LeafScaleX/√quality.
+    const float q = std::sqrt(std::max(1e-6f, p_.quality * p_.leaf_quality));
+    leaf_length_ = p_.leaf_scale / q;
+    leaf_width_ = p_.leaf_scale * p_.leaf_scale_x / q;
     const size_t n = static_cast<size_t>(std::max(1, p_.levels)) + 1;
     split_error_.assign(n, 0.0f);
+    plans_.resize(n);
+    plan_size_.assign(n, 0);
     segments_.resize(n);
     z_samples_.resize(n);
   }
@@ -195,8 +204,15 @@ class Builder {
       t.pos = Vec3(dist * std::cos(heading), dist * std::sin(heading), 0.0f);
       t.section_frame = t.frame =
           orient_child(upright, l0, p_.reading, 1.0f, u_down, u_rot, false, 0.0f, rotate_deg, alternate);
+      // A leaning trunk's base ring would dip below the ground by its radius times the lean: it
+      // stands that much higher.
+      if (ground_) {
+        const float lean = std::sqrt(std::max(0.0f, 1.0f - t.frame.z.z * t.frame.z.z));
+        t.pos.z += radius_at(t, 0.0f) * (1.0f + std::max(0.0f, p_.lobe_depth)) * lean;
+      }
       init_random_state(t);
       init_counts(t);
+      t.plan_node = plan_family(0);
       form(t, false);
     }
     finish();
@@ -310,6 +326,7 @@ class Builder {
     }
 
     std::vector<StemState> clones;
+    size_t clone_cursor = 0;  // the next of this stem's clones in the plan
     int first_out = -1;
     Frame f = s.frame;
     Vec3 pos = s.pos;
@@ -325,14 +342,12 @@ class Builder {
         // Every segment turns away from the previous one; the first keeps the direction the down
         // and rotate angles gave the stem (both readings, docs/weber_penn.md).
         float curve = wp::segment_curve_deg(lp.curve, lp.curve_back, n, i) + s.split_correction_deg;
+        // "A random rotation of magnitude nCurveV/nCurveRes is also added": a magnitude, its axis
+        // random across the stem, in both readings (as Arbaro's newDirection; docs/weber_penn.md).
         const float random_deg = lp.curve_v / static_cast<float>(n) * s.rng.symmetric();
-        if (p_.reading == wp::Reading::Paper) {
-          f = rotate_x(f, radians(curve + random_deg));  // the random part in the plane of nCurve
-        } else {
-          f = rotate_x(f, radians(curve));
-          const float about = s.rng.uniform() * kTwoPi;  // Arbaro: about a random axis across the stem
-          f = rotate_axis(f, f.x * std::cos(about) + f.y * std::sin(about), radians(random_deg));
-        }
+        f = rotate_x(f, radians(curve));
+        const float about = s.rng.uniform() * kTwoPi;
+        f = rotate_axis(f, f.x * std::cos(about) + f.y * std::sin(about), radians(random_deg));
       }
       // §4.8 vertical attraction, levels ≥ 2, about the horizontal axis across the stem.
       if (i > 0 && s.level >= 2 && p_.attraction_up != 0.0f)
@@ -345,7 +360,9 @@ class Builder {
         f = rotate_y(rotate_x(f, radians(sway.x_deg)), radians(sway.y_deg));
       }
       f = orthonormalized(f);
-      if (ground_) f = keep_above_ground(f, pos, seg_len, radius_at(s, z1));
+      // The clearance is the segment's larger end radius: the rings of a rounded tip (nTaper > 1)
+      // inside the last segment are wider than its end.
+      if (ground_) f = keep_above_ground(f, pos, seg_len, std::max(radius_at(s, z0), radius_at(s, z1)));
 
       if (!probe) segs.push_back({pos, f, i, s.children_per_segment, s.leaves_per_segment});
       for (; zi < zs.size() && zs[zi] < z1 - 1e-6f; ++zi) {
@@ -363,16 +380,11 @@ class Builder {
         emit(end, f, radius_at(s, z1), z1 * s.length);
       }
 
-      // §4.2 splits at the end of every segment but the last.
-      if (i < n - 1) {
-        int splits = 0;
-        if (s.level == 0 && i == 0 && p_.base_splits > 0) {
-          splits = p_.base_splits;
-        } else if (lp.seg_splits > 0.0f) {
-          splits = wp::diffuse_splits(lp.seg_splits * (s.halved_splits ? 0.5f : 1.0f),
-                                      split_error_[static_cast<size_t>(s.level)]);
-        }
-        if (splits > 0) split(s, f, end, i, n, splits, stem_index, clones);
+      // §4.2 splits at the end of every segment but the last, as planned for the family.
+      if (i < n - 1 && s.plan_node >= 0) {
+        const SplitNode& node = plans_[static_cast<size_t>(s.level)][static_cast<size_t>(s.plan_node)];
+        const int splits = node.splits[static_cast<size_t>(i - node.first_segment)];
+        if (splits > 0) split(s, f, end, i, n, splits, stem_index, clones, clone_cursor);
       }
       pos = end;
     }
@@ -398,7 +410,7 @@ class Builder {
   // angle each, so they diverge by the "20 to 50 degrees" §4.2 describes for horizontal stems;
   // k clones: 360/(k+1) degrees apart (docs/design.md §5.1). `f` is the stem's frame, updated in place.
   void split(StemState& s, Frame& f, const Vec3& at, int i, int n, int splits, int stem_index,
-             std::vector<StemState>& clones) {
+             std::vector<StemState>& clones, size_t& clone_cursor) {
     const WeberPennLevel& lp = p_.at(s.level);
     const float declination = degrees(safe_acos(f.z.z));
     const float angle = wp::split_angle_deg(lp.split_angle, lp.split_angle_v, s.rng.symmetric(), declination);
@@ -415,9 +427,7 @@ class Builder {
     const float share = 1.0f / static_cast<float>(splits + 1);
     s.children_per_segment *= share;
     if (p_.reading == wp::Reading::Paper) s.leaves_per_segment *= share;
-    // §4.3 "any stem that has been cloned or is, itself, a clone reduces its propensity to form
-    // clones by half": the paper reading; Arbaro never halves.
-    const bool halve = p_.reading == wp::Reading::Paper;
+    const SplitNode& node = plans_[static_cast<size_t>(s.level)][static_cast<size_t>(s.plan_node)];
     const Frame pre = f;
     const Vec3 up{0.0f, 0.0f, 1.0f};
     for (int c = 0; c <= splits; ++c) {
@@ -437,14 +447,67 @@ class Builder {
       k.frame = g;
       k.segment = i + 1;
       k.split_correction_deg = correction;
-      k.halved_splits = halve;
+      k.plan_node = node.clones[clone_cursor++];
       k.child_counter = 0;
       init_random_state(k);
       k.helix_frame = s.helix_frame;
       clones.push_back(k);
     }
     s.split_correction_deg = correction;
-    s.halved_splits = halve;
+  }
+
+  // One entry of a family's split plan: the splits a stem makes at the end of each of its segments
+  // from `first_segment` on, and the plan entries of its clones in the order it makes them.
+  struct SplitNode {
+    int first_segment = 0;
+    std::vector<int> splits;
+    std::vector<int> clones;
+  };
+
+  // §4.2 splits of a stem and all its clones (a family), decided in Arbaro's order (makeClones): the
+  // stem decides segment by segment, and each clone, made at once, decides all of its own before
+  // the stem goes on; the level's error value runs through the decisions in that order. Sylva forms
+  // a stem's segments before its clones, so the decisions are made first and read back (the order
+  // matters: with 1SegSplits = 0.25 over 17 segments a family has 24 stems one way, 28 the other).
+  // Pruning probes read the plan without using up error. Returns the root's entry, or −1 when the
+  // level never splits.
+  int plan_family(int level) {
+    const bool base_splits = level == 0 && p_.base_splits > 0;
+    if (!base_splits && p_.at(level).seg_splits <= 0.0f) return -1;
+    plan_size_[static_cast<size_t>(level)] = 0;
+    return plan_stem(level, 0, base_splits, false, plans_[static_cast<size_t>(level)]);
+  }
+  int plan_stem(int level, int first_segment, bool base_splits, bool halved, std::vector<SplitNode>& plan) {
+    const WeberPennLevel& lp = p_.at(level);
+    const int n = std::max(1, lp.curve_res);
+    size_t& size = plan_size_[static_cast<size_t>(level)];
+    const int id = static_cast<int>(size);
+    if (size >= kMaxStems)
+      throw Error("tree too large: more than " + std::to_string(kMaxStems) +
+                  " stems (lower nSegSplits, 0BaseSplits or nCurveRes)");
+    if (size == plan.size()) plan.emplace_back();  // entries are reused from family to family
+    ++size;
+    plan[static_cast<size_t>(id)].first_segment = first_segment;
+    plan[static_cast<size_t>(id)].splits.clear();
+    plan[static_cast<size_t>(id)].clones.clear();
+    for (int i = first_segment; i < n - 1; ++i) {
+      int splits = 0;
+      if (base_splits && i == 0) {
+        splits = p_.base_splits;
+      } else if (lp.seg_splits > 0.0f) {
+        splits = wp::diffuse_splits(lp.seg_splits * (halved ? 0.5f : 1.0f), split_error_[static_cast<size_t>(level)]);
+      }
+      plan[static_cast<size_t>(id)].splits.push_back(splits);
+      if (splits == 0) continue;
+      // §4.3 "any stem that has been cloned or is, itself, a clone reduces its propensity to form
+      // clones by half": the paper reading; Arbaro never halves.
+      halved = p_.reading == wp::Reading::Paper;
+      for (int c = 0; c < splits; ++c) {
+        const int clone = plan_stem(level, i + 1, false, halved, plan);
+        plan[static_cast<size_t>(id)].clones.push_back(clone);
+      }
+    }
+    return id;
   }
 
   // §4.3 children and §4.5 leaves along the segments just formed, each segment with the counts it
@@ -549,11 +612,16 @@ class Builder {
     };
     c.length = length;
     c.base_radius = radius_for(length);
+    // A stem pruned away is not made and leaves the split error as it was (Arbaro restores it).
+    const float split_error = split_error_[static_cast<size_t>(c.level)];
+    c.plan_node = plan_family(c.level);
     if (p_.prune_ratio > 0.0f) length = prune(c);
-    if (length < kMinStemLength) return;
     c.length = length;
     c.base_radius = radius_for(length);
-    if (c.base_radius < kMinStemRadius) return;
+    if (length < kMinStemLength || c.base_radius < kMinStemRadius) {
+      split_error_[static_cast<size_t>(c.level)] = split_error;
+      return;
+    }
     init_counts(c);
     form(c, false);
   }
@@ -565,17 +633,14 @@ class Builder {
     const float original = c.length;
     float length = original;
     StemState t = c;
-    for (int iteration = 0; iteration < 64 && length >= kMinStemLength; ++iteration) {
+    for (int iteration = 0; iteration < 64 && length >= kMinPrunedLength; ++iteration) {
       t.length = length;
-      float& error = split_error_[static_cast<size_t>(c.level)];
-      const float saved = error;
       const int out = form(t, true);
-      error = saved;
       if (out < 0) break;
       const int n = std::max(1, p_.at(c.level).curve_res);
       length *= std::clamp(static_cast<float>(out) / static_cast<float>(n), 0.5f, 0.9f);
     }
-    if (length < kMinStemLength) length = 0.0f;
+    if (length < kMinPrunedLength) length = 0.0f;
     const float result = original + (length - original) * p_.prune_ratio;
     if (lengths_ == Lengths::Record) pruned_->push_back(result);
     return result;
@@ -596,10 +661,7 @@ class Builder {
     const float u_rot = rng.symmetric();
     Frame f = orient_child(parent_frame, lp, p_.reading, ratio, u_down, u_rot, fan, fan_deg, s.leaf_rotate_deg,
                            s.leaf_alternate);
-    // §4.5 leaf size: LeafScale/√quality by LeafScale·LeafScaleX/√quality.
-    const float q = std::sqrt(std::max(1e-6f, p_.quality * p_.leaf_quality));
-    const float length = p_.leaf_scale / q;
-    const float width = p_.leaf_scale * p_.leaf_scale_x / q;
+    const float length = leaf_length_, width = leaf_width_;
     const Vec3 pos = axis_pos + f.z * (p_.leaf_stem_len * length);
     bend_leaf(f, pos);
     const Vec3 at = ground_ ? lift_leaf(f, pos, length, width) : pos;
@@ -615,7 +677,11 @@ class Builder {
   // Negative Leaves (§4.5): |Leaves| leaves in a fan of nRotate degrees at the stem end.
   void fan_leaves(StemState& s, int stem_index, const Vec3& tip, const Frame& f) {
     const WeberPennLevel& lp = p_.at(p_.levels);
-    const int count = std::max(1, static_cast<int>(std::lround(-p_.leaves * p_.quality * p_.leaf_quality)));
+    // As many as along a stem: |Leaves|·ShapeRatio(LeafDistrib, offset/length_parent)·quality, rounded
+    // (Arbaro's makeLeaves, fan mode).
+    const float per_stem = wp::leaf_count(-p_.leaves, p_.leaf_distrib, s.offset, s.level == 0 ? 0.0f : s.parent_length,
+                                          p_.quality * p_.leaf_quality, p_.reading);
+    const int count = static_cast<int>(std::floor(per_stem + 0.5f));
     for (int j = 0; j < count; ++j) {
       const float a =
           count > 1 ? -0.5f * lp.rotate + lp.rotate * static_cast<float>(j) / static_cast<float>(count - 1) : 0.0f;
@@ -685,7 +751,10 @@ class Builder {
   float scale_tree_ = 1.0f;
   float z_scale_ = 1.0f;
   float length_base_ = 0.0f;
+  float leaf_length_ = 0.0f, leaf_width_ = 0.0f;
   std::vector<float> split_error_;                   // §4.2 error diffusion, per level
+  std::vector<std::vector<SplitNode>> plans_;        // the split plan of the family being formed, per level
+  std::vector<size_t> plan_size_;                    // entries of plans_ in use, per level
   std::vector<std::vector<SegmentStart>> segments_;  // scratch per level
   std::vector<std::vector<float>> z_samples_;        // scratch per level
 };
