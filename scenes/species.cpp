@@ -199,7 +199,7 @@ Species load_species(const std::filesystem::path& file) {
 TreeModel make_species_model(const Species& species, uint64_t seed, const TreeOptions& options) {
   // A Hart-Baker species grows here, where the light-view pass is available (docs/design.md §2).
   if (const HartBakerParams* hb = std::get_if<HartBakerParams>(&species.model); hb && !hb->grown)
-    return hart_baker_tree_model(grow_hart_baker_tree(*hb, seed, hb->years, {}), *hb);
+    return hart_baker_tree_model(grow_hart_baker_tree(*hb, seed, options.years > 0 ? options.years : hb->years, {}), *hb);
   return make_tree(species.model, seed, options);
 }
 

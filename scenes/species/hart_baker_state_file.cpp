@@ -145,6 +145,7 @@ std::string format_hart_baker_state(const HartBakerTree& t, const std::filesyste
         "limb {} {} {} {} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {:.9g} {} {:.9g} {:.9g} {:.9g} {:.9g}\n",
         t.parent[i], t.order[i], t.alive[i], t.born[i], b.x, b.y, b.z, d.x, d.y, d.z, t.length_m[i], t.radius_m[i],
         t.apex[i], t.lit[i], q.x, q.y, q.z);
+    if (!t.alive[i]) continue;  // a dead limb's rings are never read again
     for (size_t y = 0; y < t.ring_radius_m[i].size(); ++y) {
       const Vec3 o = t.ring_offset_m[i][y];
       s += fmt::format("ring {:.9g} {:.9g} {:.9g} {:.9g} {:.9g}\n", t.ring_radius_m[i][y], t.ring_length_m[i][y], o.x,

@@ -10,7 +10,7 @@
 //   year <n>
 //   limb <parent> <order> <alive> <born> <base x y z> <direction x y z> <length> <radius>
 //        <apex> <lit> <reaction x y z>                             (one line; ids count from 0)
-//   ring <radius> <length> <offset x y z>                          (the last limb's rings, in years)
+//   ring <radius> <length> <offset x y z>          (the last limb's rings by year; living limbs only)
 //
 // Reals are written with 9 significant digits, so a float state reads back bit for bit and
 // continuing a saved tree gives the same tree as growing it in one go.
