@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "geometry/trees/hart_baker/rings.h"
 #include "scenes/hart_baker_growth.h"
+#include "scenes/scene_file.h"
 #include "scenes/species.h"
 #include "scenes/species/hart_baker_state_file.h"
 
@@ -121,6 +122,35 @@ TEST(HartBakerGrowth, RingsRecordEveryYearAtTheHeight) {
   const std::string csv = ring_widths_csv(rings);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 11);
   EXPECT_TRUE(trunk_rings(t, p, 1000.0f).size() == 0);
+}
+
+TEST(HartBakerGrowth, SceneTreesGrowForTheirYears) {
+  const std::string head =
+      "[materials.bark]\ntype = \"diffuse\"\nreflectance = 0.3\n[materials.leaf]\ntype = \"leaf\"\n"
+      "reflectance = 0.1\ntransmittance = 0.1\n";
+  auto tree = [](int years) {
+    return "[[trees]]\nspecies = \"../species/hart_baker_broadleaf.toml\"\nbark = \"bark\"\nleaf = \"leaf\"\n"
+           "years = " +
+           std::to_string(years) + "\n";
+  };
+  const SceneFile f = parse_scene(head + tree(3) + tree(6) + tree(3), "grown.toml", SYLVA_SOURCE_DIR "/data/examples");
+  ASSERT_EQ(f.scene.instances.size(), 3u);
+  EXPECT_EQ(f.scene.instances[0].prototype, f.scene.instances[2].prototype);  // same age, one mesh
+  const auto& young = f.scene.prototypes[f.scene.instances[0].prototype];
+  const auto& older = f.scene.prototypes[f.scene.instances[1].prototype];
+  EXPECT_GT(older.triangles.triangles.size(), young.triangles.triangles.size());
+  try {
+    parse_scene(head + tree(3) + "years = 4\n", "grown.toml", SYLVA_SOURCE_DIR "/data/examples");
+    FAIL() << "a repeated key must be rejected";
+  } catch (const ParseError& e) {
+    EXPECT_GT(e.line(), 0);
+  }
+  EXPECT_THROW(parse_scene(head + tree(501), "grown.toml", SYLVA_SOURCE_DIR "/data/examples"), ParseError);
+}
+
+TEST(HartBakerGrowth, ExampleSceneLoads) {
+  const SceneFile f = load_scene_file(SYLVA_SOURCE_DIR "/data/examples/grown.toml");
+  EXPECT_EQ(f.scene.instances.size(), 7u);  // ground, wall, five trees
 }
 
 // Figure 1 of the paper, measured: mean over seeds.

@@ -258,7 +258,7 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
   // Reaction wood (§5.1). Eq. 24–25: δ_i = W_i X̄_i sin θ_X / (F_R sin θ_d), with W_i X̄_i sin θ_X the
   // moment of the supported weight about the base (its horizontal lever), F_R the support of the
   // base's wood (eq. 6) and θ_d the angle to the parent limb (90° for the trunk). The year's
-  // eccentric growth is reaction_wood·ΔR·min(1, δ_i/l_i) on the side ŷ: towards the load for
+  // eccentric growth is reaction_wood·ΔR·min(1, δ_i/R_i) on the side ŷ: towards the load for
   // gymnosperms (compression wood below), away from it for angiosperms (tension wood above).
   for (size_t i = 0; i < n; ++i) {
     if (!tree.alive[i]) continue;
@@ -272,7 +272,7 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
     if (across_len > 1e-9 && support > 0.0 && sin_d > 1e-6) {
       const double delta = s.M[i] * glm::length(lever) / (support * sin_d);  // eq. 25
       const double dR = tree.radius_m[i] - old_radius[i];
-      const double amount = params.reaction_wood * dR * std::min(1.0, delta / std::max(1e-6, double(tree.length_m[i])));
+      const double amount = params.reaction_wood * dR * std::min(1.0, delta / std::max(1e-6, double(tree.radius_m[i])));
       const DVec3 side = (params.wood == WoodClass::Gymnosperm ? 1.0 : -1.0) * across / across_len;
       tree.reaction_m[i] += Vec3(side * (0.5 * amount));
     }
@@ -419,10 +419,11 @@ TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams
   return model;
 }
 
-TreeModel make_tree(const HartBakerParams& params, uint64_t seed, const TreeOptions&) {
+TreeModel make_tree(const HartBakerParams& params, uint64_t seed, const TreeOptions& options) {
   if (params.grown) return hart_baker_tree_model(*params.grown, params);
   HartBakerTree tree = make_hart_baker_seedling(params, seed);
-  for (int y = 0; y < params.years; ++y) grow_hart_baker_year(tree, params, {});
+  const int years = options.years > 0 ? options.years : params.years;
+  for (int y = 0; y < years; ++y) grow_hart_baker_year(tree, params, {});
   return hart_baker_tree_model(tree, params);
 }
 

@@ -186,8 +186,8 @@ TreeLeaves hart_baker_leaves(const HartBakerTree& tree, const HartBakerParams& p
 TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams& params);
 
 // Tree-model registry function. The model a scene sees is grown by scenes/ with the light pass
-// (make_species_model); on its own, geometry has no light, so this grows params.years with every
-// leaf counted as fully lit (the paper's purely "genetic" light response) — pure and seeded.
+// (make_species_model); on its own, geometry has no light, so this grows options.years (else
+// params.years) with every leaf counted as fully lit — pure and seeded. A grown state is used as is.
 TreeModel make_tree(const HartBakerParams& params, uint64_t seed, const TreeOptions& options);
 
 }  // namespace sylva
