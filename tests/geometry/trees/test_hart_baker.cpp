@@ -197,6 +197,36 @@ TEST(HartBaker, PruningRemovesTheSubtree) {
   EXPECT_EQ(hart_baker_tree_model(t, p).stems.size(), 2u);
 }
 
+TEST(HartBaker, PruningMakesTheRestCompensate) {
+  // §6.1: cutting the heavy +X limb moves the centre of mass to the −Y limb's side, so eq. 13 now
+  // speeds up a shoot growing +Y (away from it) and slows one growing −Y.
+  HartBakerParams p;
+  HartBakerTree t = hand_built(p);
+  t.direction[3] = Vec3(0, 1, 0);
+  const LimbSums before = compute_limb_sums(t, p, {});
+  EXPECT_GT(before.X[0].x, 0.0);
+  prune_hart_baker_limb(t, 1);
+  // A new shoot growing +Y from the trunk's top, standing in for the rest of the crown.
+  t.parent.push_back(0);
+  t.order.push_back(1);
+  t.alive.push_back(1);
+  t.born.push_back(0);
+  t.base.push_back({0, 0, 2});
+  t.direction.push_back({0, 1, 0});
+  t.length_m.push_back(0.1f);
+  t.radius_m.push_back(0.004f);
+  t.apex.push_back(-1);
+  t.lit.push_back(1.0f);
+  t.ring_radius_m.emplace_back();
+  t.ring_length_m.emplace_back();
+  t.ring_offset_m.emplace_back();
+  t.reaction_m.emplace_back(0.0f);
+  const LimbSums after = compute_limb_sums(t, p, {});
+  EXPECT_LT(after.X[0].y, 0.0);
+  EXPECT_GT(after.o[4], 0.0);
+  EXPECT_LT(after.o[2], 0.0);
+}
+
 TEST(HartBaker, LeavesGrowOnThinLimbsAndFaceUp) {
   HartBakerParams p;
   p.leaf_radius_m = 0.021f;
