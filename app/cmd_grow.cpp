@@ -117,8 +117,10 @@ int run_grow(const GrowArgs& a) {
     write_text_file(csv, ring_widths_csv(rings));
   }
   if (a.stats) {
-    const std::vector<float> light =
-        params.phototropism ? hart_baker_light(tree, params, obstacles) : std::vector<float>();
+    // The light of the grown tree, averaged over more directions than a year's sample.
+    HartBakerParams measure = params;
+    measure.light.samples = std::max(measure.light.samples, 16);
+    const std::vector<float> light = hart_baker_light(tree, measure, obstacles);
     fmt::print("{}", grow_stats_json(species.name, tree, params, light, shed, seconds));
   }
   return 0;
