@@ -257,7 +257,8 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
 
   // Reaction wood (§5.1). Eq. 24–25: δ_i = W_i X̄_i sin θ_X / (F_R sin θ_d), with W_i X̄_i sin θ_X the
   // moment of the supported weight about the base (its horizontal lever), F_R the support of the
-  // base's wood (eq. 6) and θ_d the angle to the parent limb (90° for the trunk). The year's
+  // base's wood (eq. 6) and θ_d the angle to the parent limb (90° for an axis' own yearly
+  // continuation, the trunk's included). The year's
   // eccentric growth is reaction_wood·ΔR·min(1, δ_i/R_i) on the side ŷ: towards the load for
   // gymnosperms (compression wood below), away from it for angiosperms (tension wood above).
   for (size_t i = 0; i < n; ++i) {
@@ -265,8 +266,10 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
     const DVec3 dir = to_d(tree.direction[i]);
     const DVec3 lever = horizontal(s.X[i] - to_d(tree.base[i]));
     const DVec3 across = lever - glm::dot(lever, dir) * dir;
+    // A yearly continuation of an axis (the trunk's included) bends as the axis does: θ_d = 90°.
+    const bool continues = i == 0 || tree.apex[static_cast<size_t>(tree.parent[i])] == static_cast<int32_t>(i);
     const double sin_d =
-        i == 0 ? 1.0 : glm::length(glm::cross(dir, to_d(tree.direction[static_cast<size_t>(tree.parent[i])])));
+        continues ? 1.0 : glm::length(glm::cross(dir, to_d(tree.direction[static_cast<size_t>(tree.parent[i])])));
     const double support = supports(tree.radius_m[i], d, H);
     const double across_len = glm::length(across);
     if (across_len > 1e-9 && support > 0.0 && sin_d > 1e-6) {
