@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   add(sylva::add_merge_command(app));
   add(sylva::add_compare_command(app));
   add(sylva::add_tree_command(app));
+  add(sylva::add_grow_command(app));
   add(sylva::add_export_command(app));
   add(sylva::add_golden_command(app));
 

@@ -276,11 +276,12 @@ class SceneParser {
   void parse_trees(const Params& root) {
     for (const Params* t : root.tables("trees")) {
       t->check_keys({"name", "species", "seed", "bark", "dead_bark", "leaf", "flower", "leaves", "quality", "time",
-                     "wind", "translate", "rotate", "scale", "object_id", "instances"});
+                     "wind", "years", "translate", "rotate", "scale", "object_id", "instances"});
       const std::filesystem::path file = t->file_path("species");
       TreeOptions options;
       options.quality = t->real("quality", 1.0, 0.01, 100.0);
       options.time_s = t->real("time", 0.0, -1e9, 1e9);
+      options.years = static_cast<int>(t->integer("years", 0, 0, 500));
       if (options_.time_s) options.time_s = *options_.time_s;
       const Vec2 wind = t->vec2("wind", Vec2(0.0f));
       if (wind.x < 0 || wind.y < 0) t->fail("wind", "wind = [speed, gust] must not be negative");
@@ -294,6 +295,7 @@ class SceneParser {
       std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
                                     options.wind_speed, options.wind_gust, with_leaves);
       for (const uint32_t m : materials) key += fmt::format("|{}", m);
+      if (options.years > 0) key += fmt::format("|years {}", options.years);
       if (t->has("dead_bark")) key += "|dead " + t->string("dead_bark");
       auto it = tree_prototypes_.find(key);
       if (it == tree_prototypes_.end()) {

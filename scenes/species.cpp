@@ -4,6 +4,8 @@
 #include "core/error.h"
 #include "core/registry.h"
 #include "geometry/trees/tree_mesher.h"
+#include "scenes/hart_baker_growth.h"
+#include "scenes/species/hart_baker_state_file.h"
 #include "scenes/species/lsystem_file.h"
 #include "scenes/species/treemaker_file.h"
 #include "scenes/toml_reader.h"
@@ -139,12 +141,29 @@ Species parse_grammar(const std::string& text, const std::filesystem::path& file
   return Species{std::move(a.name), file, a.params, {}};
 }
 
+// A saved Hart-Baker growth state (docs/hart_baker.md): the species it names, grown as saved.
+Species parse_hart_baker_tree(const std::string& text, const std::filesystem::path& file) {
+  HartBakerStateFile state = parse_hart_baker_state(text, file);
+  const std::filesystem::path species_file =
+      state.species.is_absolute() ? state.species : file.parent_path() / state.species;
+  Species species = load_species(species_file);
+  HartBakerParams* params = std::get_if<HartBakerParams>(&species.model);
+  if (!params)
+    throw ParseError(file, 2,
+                     fmt::format("{} is not a Hart-Baker species (model = \"hart-baker\")", species_file.string()));
+  params->grown = std::make_shared<const HartBakerTree>(std::move(state.tree));
+  species.file = file;
+  species.name = fmt::format("{} (year {})", species.name, params->grown->year);
+  return species;
+}
+
 constexpr SpeciesFormat kSpeciesFormats[] = {
     {".toml", parse_toml},        // Sylva TOML, any registered model
     {".xml", parse_arbaro_xml},   // Arbaro XML (Weber-Penn)
     {".lsys", parse_lsys},        // L-systems (docs/lsystems.md)
     {".grammar", parse_grammar},  // the aspen grammar (docs/lsystems.md)
     {".tmpl", parse_treemaker},   // TREE-MAKER templates (docs/treemaker.md)
+    {".hbtree", parse_hart_baker_tree},  // saved Hart-Baker growth states (docs/hart_baker.md)
 };
 
 std::string lower(std::string s) {
@@ -178,6 +197,9 @@ Species load_species(const std::filesystem::path& file) {
 }
 
 TreeModel make_species_model(const Species& species, uint64_t seed, const TreeOptions& options) {
+  // A Hart-Baker species grows here, where the light-view pass is available (docs/design.md §2).
+  if (const HartBakerParams* hb = std::get_if<HartBakerParams>(&species.model); hb && !hb->grown)
+    return hart_baker_tree_model(grow_hart_baker_tree(*hb, seed, options.years > 0 ? options.years : hb->years, {}), *hb);
   return make_tree(species.model, seed, options);
 }
 

@@ -19,6 +19,9 @@
 // TREE-MAKER: a `.tmpl` file, or a TOML file `model = "treemaker"`, `template = "dogwood.tmpl"`
 // (relative to the TOML file), optional `unit_m` (metres per template unit) and `line_width`.
 //
+// Hart-Baker (docs/hart_baker.md): a TOML file `model = "hart-baker"`, grown by make_species_model
+// with the light-view pass, or a saved growth state `.hbtree` naming such a file, used as saved.
+//
 // Every mistake (syntax, unknown or repeated parameter, wrong type, value out of range) throws
 // sylva::ParseError "file:line: message". Parameters read but not used become warnings.
 

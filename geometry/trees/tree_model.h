@@ -65,12 +65,14 @@ struct TreeLeaves {
 };
 
 // How a tree is evaluated, for every model: wind (Weber & Penn §4.7; speed and gust in the paper's
-// units) at time time_s, and the §4.5 quality factor (leaf count and size, radial mesh resolution).
+// units) at time time_s, the §4.5 quality factor (leaf count and size, radial mesh resolution),
+// and for growth models the age.
 struct TreeOptions {
   float time_s = 0;
   float wind_speed = 0;
   float wind_gust = 0;
   float quality = 1;
+  int years = 0;  // growth models (Hart-Baker): age in years; 0 = the species' own `years`
 };
 
 struct TreeModel {

@@ -90,7 +90,7 @@ TEST(Species, TomlErrorsCarryFileAndLine) {
   EXPECT_EQ(error_of("name = \"x\"\n"), "bad.toml:1: missing key 'model' (e.g. model = \"weber-penn\")");
   EXPECT_EQ(error_of("model = \"lsys\"\n"),
             "bad.toml:1: unknown model \"lsys\" (this version reads \"weber-penn\", \"lsystem\", \"aspen-grammar\", "
-            "\"treemaker\")");
+            "\"treemaker\", \"hart-baker\")");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = 7\nBaseSise = 0.4\n"),
             "bad.toml:3: unknown parameter 'BaseSise'");
   EXPECT_EQ(error_of("model = \"weber-penn\"\n\nShape = 9\n"), "bad.toml:3: 'Shape' must be in [0, 8], not 9");
@@ -111,7 +111,8 @@ TEST(Species, TomlErrorsCarryFileAndLine) {
   EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = [1]\n"), "bad.toml:2: 'Shape' must be a number");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = \n").substr(0, 11), "bad.toml:2:");  // TOML syntax
   EXPECT_EQ(error_of("x", "tree.obj"),
-            "tree.obj:0: unknown species file type (expected .toml or .xml or .lsys or .grammar or .tmpl)");
+            "tree.obj:0: unknown species file type (expected .toml or .xml or .lsys or .grammar or .tmpl or "
+            ".hbtree)");
   EXPECT_THROW(load_species(kSpecies / "does_not_exist.toml"), ParseError);
 }
 
