@@ -7,6 +7,7 @@
 // Adding a model = its files + one entry in `TreeModelParams` below (and, for a file format of its
 // own, one line in scenes/species.cpp's format table).
 
+#include "geometry/trees/fournier_grindal/fournier_grindal.h"
 #include "geometry/trees/lsystem/aspen_grammar.h"
 #include "geometry/trees/lsystem/lsystem.h"
 #include "geometry/trees/tree_model.h"
@@ -20,17 +21,16 @@
 namespace sylva {
 
 // The registered tree models.
-using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate>;
+using TreeModelParams =
+    std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate, FournierGrindalParams>;
 
 // Generates the tree structure for a seed. Pure: the same inputs give a bit-identical model.
 // Constrained so a registered model without its own make_tree is a compile error, not a call of
 // this function with the parameters converted back to the variant.
 template <typename Variant>
-  requires std::same_as<Variant, TreeModelParams>
-TreeModel make_tree(const Variant& params, uint64_t seed, const TreeOptions& options = {}) {
-  return std::visit(
-      [&](const auto& p) { return make_tree(p, seed, options); },
-      params);
+requires std::same_as<Variant, TreeModelParams> TreeModel make_tree(const Variant& params, uint64_t seed,
+                                                                    const TreeOptions& options = {}) {
+  return std::visit([&](const auto& p) { return make_tree(p, seed, options); }, params);
 }
 
 }  // namespace sylva
