@@ -50,6 +50,18 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
   si.primitive = hit.primitive;
   si.leaf = hit.leaf;
   Vec3 p_obj, ng_obj, ns_obj;
+  if (hit.solid) {
+    // A half-space solid (Fournier–Grindal): the point on the world ray, its texture looked up in
+    // the crown's own coordinates (§4) to pick the palette material.
+    si.p = ray.origin + hit.t * ray.direction;
+    p_obj = Vec3(glm::inverse(inst.world_from_object) * Vec4(si.p, 1.0f));
+    const std::vector<uint32_t>& palette = proto.solid_palettes[hit.primitive];
+    const HalfSpaceSolid& solid = proto.solids[hit.primitive];
+    si.material = palette[solid_palette_index(solid.colouring, p_obj, static_cast<uint32_t>(palette.size()))];
+    si.ng = glm::normalize(nfo * hit.normal);
+    si.ns = si.ng;
+    return si;
+  }
   if (hit.leaf) {
     const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
     // Embree's quad parametrisation: triangle (c0,c1,c3) for u+v <= 1, (c2,c3,c1) beyond.
