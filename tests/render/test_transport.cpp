@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "geometry/primitives.h"
+#include "geometry/trees/fournier_grindal/fournier_grindal.h"
 #include "render/renderer.h"
 #include "tests/render/render_test_scenes.h"
 
@@ -98,13 +99,33 @@ TEST(Transport, WhiteFurnaceClosedLambertianObjects) {
   // A closed box and a sphere of albedo 1 (instanced, scaled) under a uniform unit sky: radiance 1.
   Scene s = furnace_scene();
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
-  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0};
-  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0};
+  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}};
+  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0, {}, {}};
   s.instances.push_back({s.add_prototype(box), glm::translate(Mat4(1.0f), Vec3(-0.6f, 0, 0)), 0});
   s.instances.push_back(
       {s.add_prototype(sphere), glm::scale(glm::translate(Mat4(1.0f), Vec3(0.7f, 0, 0.5f)), Vec3(1.3f)), 0});
   const Image img = render_image(s, 24, 24, 64);
   expect_channels(img, band_value_of_constant, "closed furnace");
+}
+
+TEST(Transport, WhiteFurnaceHalfSpaceSolids) {
+  // A Fournier–Grindal crown (fBm-displaced, sphere-traced) and its trunk, albedo 1, instanced and
+  // scaled, under a uniform unit sky: radiance 1 (the user geometry's normals and self-hits agree).
+  Scene s = furnace_scene();
+  const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
+  FournierGrindalParams fg;
+  fg.normals = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1.2f}, {0, 0, -0.8f}};
+  fg.displacement_m = 0.15f;
+  fg.fbm.wavelength_m = 0.5f;
+  fg.crown_base_m = 0.5f;
+  fg.trunk_radius_m = 0.08f;
+  fg.trunk_top_radius_m = 0.05f;
+  Prototype p;
+  p.solids = make_fournier_grindal_tree(fg, 4).solids;
+  p.solid_palettes.assign(p.solids.size(), {m});
+  s.instances.push_back({s.add_prototype(p), glm::scale(glm::translate(Mat4(1.0f), Vec3(0, 0, -0.6f)), Vec3(0.8f)), 0});
+  const Image img = render_image(s, 24, 24, 64);
+  expect_channels(img, band_value_of_constant, "half-space furnace");
 }
 
 TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {
@@ -121,7 +142,8 @@ TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {
     std::vector<double> l = {300, 500, 700, 900, 2500}, v = {0.1, 0.2, 0.5, 0.6, 0.3};
     const DenseSpectrum rho = DenseSpectrum::from_samples(l, v, Extrapolate::Clamp);
     const uint32_t m = s.add_material("soil", make_diffuse("soil", rho));
-    s.instances.push_back({s.add_prototype(Prototype{"ground", make_plane(1000, 1000), m, {}, 0}), Mat4(1.0f), 0});
+    s.instances.push_back(
+        {s.add_prototype(Prototype{"ground", make_plane(1000, 1000), m, {}, 0, {}, {}}), Mat4(1.0f), 0});
     const Image img = render_image(s, 16, 16, 256, 0, 4);
     const double cos_theta = std::sin(radians(elevation));
     expect_channels(
@@ -142,7 +164,7 @@ TEST(Transport, GroundBelowTheHorizonLightsAPlaneFromBelow) {
   std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 40;
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(0.8f)));
   const Mat4 flip = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, 2)), kPi, Vec3(1, 0, 0));
-  s.instances.push_back({s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0}), flip, 0});
+  s.instances.push_back({s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0, {}, {}}), flip, 0});
   const Image img = render_image(s, 16, 16, 256, 0, 4);
   DenseSpectrum ground = s.sky.spectrum;
   for (int i = 0; i < kLambdaSamples; ++i) ground[i] += s.sun.irradiance[i] * std::sin(radians(50.0f));
