@@ -66,6 +66,8 @@ void solid_occluded(const RTCOccludedFunctionNArguments* args) {
                  RTCRayN_org_z(args->ray, args->N, i));
     const Vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                  RTCRayN_dir_z(args->ray, args->N, i));
+    // A turbid crown does not block shadow rays: the integrator attenuates them by Beer's law.
+    if (solids[args->primID].leaf_area_density > 0.0f) continue;
     SolidHit h;
     if (intersect_solid(solids[args->primID], o, d, RTCRayN_tnear(args->ray, args->N, i),
                         RTCRayN_tfar(args->ray, args->N, i), &h))

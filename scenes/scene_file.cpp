@@ -361,6 +361,8 @@ class SceneParser {
       return ids;
     };
     const std::vector<uint32_t> bark = palette("bark", "bark", fournier_grindal_bark_palette(fg, seed));
+    if (fg.leaf_area_density > 0.0f && !t.has("leaf"))
+      t.fail("a turbid crown (optics = \"turbid\") needs 'leaf': the leaves' reflectance and transmittance");
     const std::vector<uint32_t> crown = palette("leaf", "crown", fg.crown_rgb);
     std::string key = fmt::format("{}|{}|solids", species.file.string(), seed);
     for (const uint32_t m : bark) key += fmt::format("|{}", m);

@@ -80,8 +80,11 @@ struct HalfSpaceSolid {
   FbmParams displacement;
   SolidColouring colouring;
   uint8_t material_slot = 0;  // 0 = bark (trunk), 1 = foliage (crown)
-  Bounds3 bounds;             // object-space bounds of every point of the solid
-  float lipschitz = 1.0f;     // of D: 1 + A·fbm_lipschitz (solid_lipschitz)
+  // > 0: the solid is a turbid medium of leaves of this leaf area density (m²/m³ of world space),
+  // not an opaque surface; its boundary is crossed, not shaded (render/materials/leaf_medium.h).
+  float leaf_area_density = 0.0f;
+  Bounds3 bounds;          // object-space bounds of every point of the solid
+  float lipschitz = 1.0f;  // of D: 1 + A·fbm_lipschitz (solid_lipschitz)
 };
 
 // Fills `bounds` and `lipschitz` from the planes and displacement; throws sylva::Error when the

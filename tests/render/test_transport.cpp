@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "geometry/primitives.h"
 #include "geometry/trees/fournier_grindal/fournier_grindal.h"
+#include "render/materials/leaf_medium.h"
 #include "render/renderer.h"
 #include "tests/render/render_test_scenes.h"
 
@@ -126,6 +127,59 @@ TEST(Transport, WhiteFurnaceHalfSpaceSolids) {
   s.instances.push_back({s.add_prototype(p), glm::scale(glm::translate(Mat4(1.0f), Vec3(0, 0, -0.6f)), Vec3(0.8f)), 0});
   const Image img = render_image(s, 24, 24, 64);
   expect_channels(img, band_value_of_constant, "half-space furnace");
+}
+
+TEST(Transport, WhiteFurnaceTurbidCrown) {
+  // A volumetric Fournier–Grindal crown (fBm-displaced boundary) of leaves with ρ + τ = 1 around an
+  // albedo-1 trunk, under a uniform unit sky: radiance 1 (free flight, the leaf phase function's
+  // sampling and evaluation, and Beer's-law shadow rays agree).
+  Scene s = furnace_scene();
+  const uint32_t white = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
+  const uint32_t leaf =
+      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.45f), DenseSpectrum::constant(0.55f)));
+  FournierGrindalParams fg;
+  fg.normals = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1.2f}, {0, 0, -0.8f}};
+  fg.displacement_m = 0.15f;
+  fg.fbm.wavelength_m = 0.5f;
+  fg.crown_base_m = 0.5f;
+  fg.trunk_radius_m = 0.08f;
+  fg.trunk_top_radius_m = 0.05f;
+  fg.leaf_area_density = 3.0f;
+  Prototype p;
+  p.solids = make_fournier_grindal_tree(fg, 4).solids;
+  for (const HalfSpaceSolid& solid : p.solids) p.solid_palettes.push_back({solid.material_slot == 0 ? white : leaf});
+  s.instances.push_back({s.add_prototype(p), glm::scale(glm::translate(Mat4(1.0f), Vec3(0, 0, -0.6f)), Vec3(0.8f)), 0});
+  const Image img = render_image(s, 24, 24, 64);
+  expect_channels(img, band_value_of_constant, "turbid crown furnace");
+}
+
+TEST(Transport, TurbidSlabTransmitsBeersLaw) {
+  // Black leaves (ρ = τ = 0) in a slab 1 m thick, LAD 1.2, between the camera and a uniform unit
+  // sky: every pixel sees exp(−G·LAD·1 m) = exp(−0.6) (the camera's 2° field changes the path by
+  // < 0.02 %).
+  Scene s = furnace_scene();
+  s.camera.position = {0, -6, 0};
+  s.camera.target = {0, 0, 0};
+  std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 2;
+  const uint32_t black =
+      s.add_material("black", make_leaf("black", DenseSpectrum::constant(0.0f), DenseSpectrum::constant(0.0f)));
+  HalfSpaceSolid slab;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const float sign : {-1.0f, 1.0f}) {
+      Vec3 n(0.0f);
+      n[axis] = sign;
+      slab.planes.push_back(HalfSpace{n, axis == 1 ? 0.5f : 50.0f});
+    }
+  slab.leaf_area_density = 1.2f;
+  finish_solid(slab);
+  Prototype p;
+  p.solids = {slab};
+  p.solid_palettes = {{black}};
+  s.instances.push_back({s.add_prototype(p), Mat4(1.0f), 0});
+  const Image img = render_image(s, 16, 16, 1024);
+  const double expected = std::exp(-kSphericalG * 1.2);
+  expect_channels(
+      img, [&](const DenseSpectrum& w) { return expected * w.integral(); }, "turbid slab");
 }
 
 TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {

@@ -131,6 +131,7 @@ TreeModel make_fournier_grindal_tree(const FournierGrindalParams& p, uint64_t se
   c.colouring.fbm = p.fbm;
   c.colouring.fbm.seed = hash_ids(seed, 2);
   c.material_slot = 1;
+  c.leaf_area_density = p.leaf_area_density;
   finish_solid(c);
   HalfSpaceSolid t;
   t.planes = hexagonal_trunk(p.trunk_radius_m, p.trunk_top_radius_m, p.crown_base_m - 0.5f * z_lo);
@@ -179,6 +180,12 @@ FournierGrindalParams FournierGrindalParams::create(const Params& params, std::v
   p.fbm.lacunarity = params.real("lacunarity", p.fbm.lacunarity, 1.1, 8.0);
   p.fbm.octaves = static_cast<int>(params.integer("octaves", p.fbm.octaves, 1, 12));
   p.fbm.wavelength_m = params.real("wavelength", p.fbm.wavelength_m, 1e-3, 1e3);
+  const std::string optics = params.string("optics", "surface");
+  if (optics == "turbid") {
+    p.leaf_area_density = params.real("lad", 1.0, 1e-4, 1e3);
+  } else if (optics != "surface") {
+    params.fail("optics", "optics must be \"surface\" (opaque, the paper's) or \"turbid\" (a leaf medium)");
+  }
   if (params.has("crown_colours")) p.crown_rgb = triples("crown_colours", 0.0f, 1.0f);
   p.crown_base_m = params.real("crown_base", p.crown_base_m, 0.0, 1e3);
   p.trunk_radius_m = params.real("trunk_radius", p.trunk_radius_m, 1e-3, 100.0);

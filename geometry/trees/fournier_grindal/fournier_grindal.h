@@ -39,6 +39,9 @@ struct FournierGrindalParams {
   // Colour texture (§4): the crown palette (linear RGB), chosen by a second fBm of the same
   // spectrum, darkest first.
   std::vector<Vec3> crown_rgb{{0.05f, 0.12f, 0.03f}, {0.08f, 0.2f, 0.05f}, {0.12f, 0.28f, 0.07f}};
+  // Optics: 0 = the paper's opaque textured surface; > 0 = a volumetric crown, a turbid medium of
+  // leaves of this leaf area density (m²/m³) bounded by the (displaced) polytope.
+  float leaf_area_density = 0.0f;
   // Trunk (§5): a hexagonal prism (a cone when the radii differ) from the ground to halfway up into
   // the crown, whose lowest point is at crown_base_m.
   float crown_base_m = 2.0f;
