@@ -18,7 +18,7 @@ using DVec3 = glm::dvec3;
 // thinner than this may be stepped over.
 constexpr double kMinStep = 0x1p-14;
 constexpr int kMaxSteps = 4096;
-constexpr int kBisections = 40;
+constexpr int kBisections = 24;
 
 double plane_distance(const HalfSpace& hs, const DVec3& p) { return glm::dot(DVec3(hs.normal), p) - hs.offset; }
 
