@@ -49,11 +49,12 @@ TEST_P(Golden, MatchesReferenceAndDeterminismHash) {
 
 INSTANTIATE_TEST_SUITE_P(All, Golden,
                          ::testing::Values("alpha_shadows", "ground_sky", "ground_sun", "instancing", "leaf_below",
-                                           "tree_aspen", "tree_aspen_grammar", "tree_dogwood", "tree_lsystem"));
+                                           "tree_aspen", "tree_aspen_grammar", "tree_dogwood", "tree_lsystem",
+                                           "tree_fg_conifer", "tree_fg_poplar", "tree_fg_round"));
 
 TEST(GoldenSuite, EveryCaseIsListed) {
   // A case added under golden/scenes must be added to the list above.
-  EXPECT_EQ(list_golden_cases(kGolden).size(), 9u);
+  EXPECT_EQ(list_golden_cases(kGolden).size(), 12u);
 }
 
 void expect_rejected(const std::string& name, const std::string& fault, const GoldenCheck& r) {
