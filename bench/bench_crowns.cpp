@@ -1,7 +1,8 @@
-// Intersection throughput of a Fournier–Grindal crown (issue 13): the exact half-space solid as
+// Intersection throughput of a Fournier–Grindal crown (issue 13): the half-space solid as
 // Embree user geometry against the same crown polygonised (geometry/solids/solid_mesh.h, marching
 // tetrahedra of the displaced distance field) and intersected as a triangle mesh. Random rays
-// through the crown's bounds, single-threaded; counters report rays per second.
+// through the crown's bounds, single-threaded; counters report rays per second. `RoundExact` is the
+// undisplaced polytope (plane clipping only) against its exact faces as triangles.
 
 #include "core/rng.h"
 #include "geometry/solids/solid_mesh.h"
@@ -17,14 +18,16 @@ namespace {
 const std::filesystem::path kSpeciesDir =
     std::filesystem::path(__FILE__).parent_path().parent_path() / "data" / "species";
 
-sylva::HalfSpaceSolid crown_of(const char* file) {
-  const sylva::Species s = sylva::load_species(kSpeciesDir / file);
+// The species' crown; `exact` drops the fBm displacement (the bare §2 polytope).
+sylva::HalfSpaceSolid crown_of(const char* file, bool exact) {
+  sylva::Species s = sylva::load_species(kSpeciesDir / file);
+  if (exact) std::get<sylva::FournierGrindalParams>(s.model).displacement_m = 0.0f;
   const sylva::TreeModel m = sylva::make_species_model(s, 1);
   return m.solids.at(1);
 }
 
-void bench_crown(benchmark::State& state, const char* file, bool triangles) {
-  const sylva::HalfSpaceSolid crown = crown_of(file);
+void bench_crown(benchmark::State& state, const char* file, bool triangles, bool exact = false) {
+  const sylva::HalfSpaceSolid crown = crown_of(file, exact);
   sylva::Scene scene;
   sylva::Prototype p;
   if (triangles) {
@@ -54,6 +57,8 @@ void bench_crown(benchmark::State& state, const char* file, bool triangles) {
 
 void BM_CrownUserGeometry_Round(benchmark::State& state) { bench_crown(state, "fg_round.toml", false); }
 void BM_CrownTriangles_Round(benchmark::State& state) { bench_crown(state, "fg_round.toml", true); }
+void BM_CrownUserGeometry_RoundExact(benchmark::State& state) { bench_crown(state, "fg_round.toml", false, true); }
+void BM_CrownTriangles_RoundExact(benchmark::State& state) { bench_crown(state, "fg_round.toml", true, true); }
 void BM_CrownUserGeometry_Poplar(benchmark::State& state) { bench_crown(state, "fg_poplar.toml", false); }
 void BM_CrownTriangles_Poplar(benchmark::State& state) { bench_crown(state, "fg_poplar.toml", true); }
 
@@ -61,5 +66,7 @@ void BM_CrownTriangles_Poplar(benchmark::State& state) { bench_crown(state, "fg_
 
 BENCHMARK(BM_CrownUserGeometry_Round);
 BENCHMARK(BM_CrownTriangles_Round);
+BENCHMARK(BM_CrownUserGeometry_RoundExact);
+BENCHMARK(BM_CrownTriangles_RoundExact);
 BENCHMARK(BM_CrownUserGeometry_Poplar);
 BENCHMARK(BM_CrownTriangles_Poplar);
