@@ -12,9 +12,9 @@ namespace {
 // One mix64 of the coordinates folded with large odd multipliers (the sphere tracer evaluates this
 // eight times per octave per step, so it is kept to a single finaliser).
 float lattice(int64_t x, int64_t y, int64_t z, uint64_t seed) {
-  const uint64_t h = mix64(seed ^ (static_cast<uint64_t>(x) * 0x9e3779b97f4a7c15ull) ^
-                           (static_cast<uint64_t>(y) * 0xc2b2ae3d27d4eb4full) ^
-                           (static_cast<uint64_t>(z) * 0x165667b19e3779f9ull));
+  const uint64_t h =
+      mix64(seed ^ (static_cast<uint64_t>(x) * 0x9e3779b97f4a7c15ull) ^
+            (static_cast<uint64_t>(y) * 0xc2b2ae3d27d4eb4full) ^ (static_cast<uint64_t>(z) * 0x165667b19e3779f9ull));
   return static_cast<float>(h >> 40) * 0x1p-23f - 1.0f;
 }
 
