@@ -55,7 +55,7 @@ int run_solid_tree(const TreeArgs& a, const Species& species, const TreeModel& m
   if (!a.stats) return 0;
   std::string solids;
   for (const HalfSpaceSolid& s : model.solids) {
-    const PolytopeFaces faces = polytope_faces(s.planes, 1e4f);
+    const PolytopeFaces faces = polytope_faces(s.planes, kSolidExtentM);
     solids += fmt::format(
         "{}    {{\"part\": \"{}\", \"planes\": {}, \"faces\": {}, \"volume_m3\": {:.6g}, \"displacement_m\": {}, "
         "\"bounds_lo\": [{:.4f}, {:.4f}, {:.4f}], \"bounds_hi\": [{:.4f}, {:.4f}, {:.4f}]}}",

@@ -128,7 +128,7 @@ PolytopeFaces polytope_faces(const ConvexPolytope& planes, float extent) {
     if (!cut) continue;  // the plane does not cut the current polytope: redundant
     std::vector<DVec3> unique;
     for (const DVec3& p : cap)
-      if (std::none_of(unique.begin(), unique.end(), [&](const DVec3& q) { return glm::length(p - q) <= 1e3 * eps; }))
+      if (std::none_of(unique.begin(), unique.end(), [&](const DVec3& q) { return glm::length(p - q) <= 1e2 * eps; }))
         unique.push_back(p);
     if (unique.size() >= 3) {
       sort_around(unique, DVec3(hs.normal));
@@ -194,8 +194,9 @@ void finish_solid(HalfSpaceSolid& solid, float extent_m) {
   Bounds3 b;
   for (const auto& poly : faces.polygons)
     for (const Vec3& p : poly) b.extend(p);
-  // Pad by a hair so hits exactly on a bounding face are inside the box Embree tests.
-  const Vec3 pad(1e-5f * glm::length(b.hi - b.lo) + 1e-6f);
+  // Pad by a hair so hits exactly on a bounding face are inside the box Embree tests, and by more
+  // than polytope_faces' merging distance for near-coincident vertices (1e-7 of the extent).
+  const Vec3 pad(1e-5f * glm::length(b.hi - b.lo) + 1e-6f * extent_m);
   solid.bounds = Bounds3{b.lo - pad, b.hi + pad};
   solid.lipschitz = solid_lipschitz(solid);
 }

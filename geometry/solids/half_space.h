@@ -87,9 +87,13 @@ struct HalfSpaceSolid {
   float lipschitz = 1.0f;  // of D: 1 + A·fbm_lipschitz (solid_lipschitz)
 };
 
+// The half-size of the cube polytope_faces starts from for solids: no crown or trunk reaches 1 km
+// from its tree's origin.
+inline constexpr float kSolidExtentM = 1e3f;
+
 // Fills `bounds` and `lipschitz` from the planes and displacement; throws sylva::Error when the
 // planes do not enclose a bounded, non-empty region within `extent_m` of the origin.
-void finish_solid(HalfSpaceSolid& solid, float extent_m = 1e4f);
+void finish_solid(HalfSpaceSolid& solid, float extent_m = kSolidExtentM);
 
 // D(p) and its Lipschitz constant. Proof of the bound: |D(p) − D(q)| ≤ |f(p) − f(q)| +
 // A|fbm(p) − fbm(q)| ≤ (1 + A·L_fbm)|p − q| (f is 1-Lipschitz, see polytope_distance; L_fbm is

@@ -15,7 +15,7 @@ constexpr std::array<std::array<int, 4>, 6> kTets = {
 }  // namespace
 
 TriangleMesh solid_surface_mesh(const HalfSpaceSolid& solid, int cells) {
-  if (solid.displacement_m <= 0.0f) return polytope_mesh(polytope_faces(solid.planes, 1e4f));
+  if (solid.displacement_m <= 0.0f) return polytope_mesh(polytope_faces(solid.planes, kSolidExtentM));
   const Vec3 extent = solid.bounds.hi - solid.bounds.lo;
   const float h = std::max({extent.x, extent.y, extent.z}) / static_cast<float>(cells);
   const int nx = static_cast<int>(std::ceil(extent.x / h)) + 1, ny = static_cast<int>(std::ceil(extent.y / h)) + 1,

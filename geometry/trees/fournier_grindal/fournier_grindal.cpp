@@ -111,7 +111,7 @@ std::vector<Vec3> fournier_grindal_bark_palette(const FournierGrindalParams& p, 
 
 TreeModel make_fournier_grindal_tree(const FournierGrindalParams& p, uint64_t seed) {
   const FgCrown crown = make_fournier_grindal_crown(p, seed);
-  const PolytopeFaces faces = polytope_faces(crown.planes, 1e4f);
+  const PolytopeFaces faces = polytope_faces(crown.planes, kSolidExtentM);
   if (faces.polygons.empty()) throw Error("fournier-grindal: the crown's half-spaces have an empty intersection");
   if (!faces.bounded) throw Error("fournier-grindal: the initial normals do not enclose the crown centre");
   float z_lo = 0.0f;
