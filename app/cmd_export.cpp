@@ -5,6 +5,7 @@
 #include "app/commands.h"
 #include "core/error.h"
 #include "geometry/mesh_io.h"
+#include "geometry/solids/solid_mesh.h"
 #include "render/lights/lights.h"
 #include "scenes/scene_file.h"
 
@@ -25,8 +26,9 @@ struct ExportOptions {
 };
 
 // Every instance of every prototype in world space, leaf quads split into triangles (0,1,2) and
-// (0,2,3). Normals are transformed by the inverse transpose when the whole scene has them (the
-// leaves get their quad's geometric normal); uvs are dropped. Leaf alpha outlines are lost.
+// (0,2,3), half-space solids polygonised (geometry/solids/solid_mesh.h). Normals are transformed by
+// the inverse transpose when the whole scene has them (the leaves get their quad's geometric
+// normal); uvs are dropped. Leaf alpha outlines are lost.
 TriangleMesh flatten_scene(const Scene& scene) {
   size_t vertex_count = 0, triangle_count = 0;
   bool normals = true;
@@ -37,6 +39,7 @@ TriangleMesh flatten_scene(const Scene& scene) {
     if (!proto.triangles.triangles.empty() && proto.triangles.normals.empty()) normals = false;
   }
   TriangleMesh world;
+  std::vector<TriangleMesh> solid_meshes(scene.prototypes.size());
   world.positions.reserve(vertex_count);
   if (normals) world.normals.reserve(vertex_count);
   world.triangles.reserve(triangle_count);
@@ -73,6 +76,19 @@ TriangleMesh flatten_scene(const Scene& scene) {
       }
       world.triangles.push_back({base, base + 1, base + 2});
       world.triangles.push_back({base, base + 2, base + 3});
+    }
+
+    // Half-space solids (Fournier–Grindal crowns and trunks), polygonised once per prototype.
+    if (!proto.solids.empty()) {
+      TriangleMesh& solid = solid_meshes[inst.prototype];
+      if (solid.triangles.empty())
+        for (const HalfSpaceSolid& s : proto.solids) append_mesh(solid, solid_surface_mesh(s));
+      base = static_cast<uint32_t>(world.positions.size());
+      for (size_t i = 0; i < solid.positions.size(); ++i) {
+        world.positions.push_back(to_world(solid.positions[i]));
+        if (normals) world.normals.push_back(to_world_normal(solid.normals[i]));
+      }
+      for (const glm::uvec3& t : solid.triangles) world.triangles.push_back(t + glm::uvec3(base));
     }
   }
   return world;

@@ -1,11 +1,12 @@
 // `sylva tree`: generate one tree from a species file, print statistics, export OBJ/PLY.
 
+#include "app/commands.h"
 #include "core/error.h"
 #include "geometry/mesh_io.h"
+#include "geometry/solids/solid_mesh.h"
 #include "geometry/trees/tree_mesher.h"
-#include "app/commands.h"
-#include "scenes/species.h"
 #include "geometry/trees/tree_stats.h"
+#include "scenes/species.h"
 
 #include <fmt/core.h>
 
@@ -40,6 +41,34 @@ std::pair<float, float> parse_wind(const std::string& text) {
   return {speed, gust};
 }
 
+// Every solid of a tree polygonised into one mesh.
+TriangleMesh solid_tree_mesh(const TreeModel& model) {
+  TriangleMesh out;
+  for (const HalfSpaceSolid& s : model.solids) append_mesh(out, solid_surface_mesh(s));
+  return out;
+}
+
+// A tree made of half-space solids (Fournier–Grindal): statistics per solid, OBJ of its surface.
+int run_solid_tree(const TreeArgs& a, const Species& species, const TreeModel& model, double ms) {
+  if (!a.ply.empty()) throw Error("--ply: a half-space tree is written with --obj only");
+  if (!a.obj.empty()) write_obj(a.obj, solid_tree_mesh(model));
+  if (!a.stats) return 0;
+  std::string solids;
+  for (const HalfSpaceSolid& s : model.solids) {
+    const PolytopeFaces faces = polytope_faces(s.planes, kSolidExtentM);
+    solids += fmt::format(
+        "{}    {{\"part\": \"{}\", \"planes\": {}, \"faces\": {}, \"volume_m3\": {:.6g}, \"displacement_m\": {}, "
+        "\"bounds_lo\": [{:.4f}, {:.4f}, {:.4f}], \"bounds_hi\": [{:.4f}, {:.4f}, {:.4f}]}}",
+        solids.empty() ? "" : ",\n", s.material_slot == 0 ? "trunk" : "crown", s.planes.size(), faces.polygons.size(),
+        polytope_volume(faces), s.displacement_m, s.bounds.lo.x, s.bounds.lo.y, s.bounds.lo.z, s.bounds.hi.x,
+        s.bounds.hi.y, s.bounds.hi.z);
+  }
+  fmt::print(
+      "{{\n  \"species\": \"{}\",\n  \"seed\": {},\n  \"generation_ms\": {:.3f},\n  \"solids\": [\n{}\n  ]\n}}\n",
+      species.name, a.seed, ms, solids);
+  return 0;
+}
+
 int run_tree(const TreeArgs& a) {
   const Species species = load_species(a.species);
   for (const std::string& w : species.warnings) fmt::print(stderr, "{}\n", w);
@@ -50,6 +79,10 @@ int run_tree(const TreeArgs& a) {
 
   const auto start = std::chrono::steady_clock::now();
   const TreeModel model = make_species_model(species, a.seed, options);
+  if (!model.solids.empty()) {
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return run_solid_tree(a, species, model, ms);
+  }
   TreeMeshOptions mesh_options;
   mesh_options.quality = options.quality;
   const TreeMesh mesh = make_tree_mesh(model, mesh_options);
@@ -66,14 +99,14 @@ int run_tree(const TreeArgs& a) {
 CommandRun add_tree_command(CLI::App& parent) {
   auto args = std::make_shared<TreeArgs>();
   CLI::App* cmd = parent.add_subcommand("tree", "Generate one tree from a species file (statistics, OBJ/PLY export)");
-  cmd->add_option("species", args->species, "Species file (.toml or Arbaro .xml)")->required();
+  cmd->add_option("species", args->species, "Species file (.toml, Arbaro .xml, .lsys, .grammar, .tmpl)")->required();
   cmd->add_option("--seed", args->seed, "Tree seed (same seed, same tree)")->capture_default_str();
   cmd->add_option("--time", args->time_s, "Time in seconds for wind sway")->capture_default_str();
   cmd->add_option("--wind", args->wind, "Wind SPEED,GUST (Weber & Penn §4.7)");
   cmd->add_option("--quality", args->quality, "Quality factor (§4.5): leaf count and mesh resolution")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--obj", args->obj, "Write the mesh as Wavefront OBJ");
+  cmd->add_option("--obj", args->obj, "Write the mesh as Wavefront OBJ (half-space crowns: their polygonised surface)");
   cmd->add_option("--ply", args->ply, "Write the mesh as binary PLY");
   cmd->add_flag("--stats", args->stats, "Print statistics as JSON");
   return [args] { return run_tree(*args); };

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <limits>
 
 namespace sylva {
 
@@ -22,6 +23,55 @@ void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
     const float u = RTCHitN_u(args->hit, args->N, i);
     const float v = RTCHitN_v(args->hit, args->N, i);
     if (!leaf_shape_inside(shapes[prim], u, v)) args->valid[i] = 0;
+  }
+}
+
+// Half-space solids as user geometry (Fournier & Grindal §2.2, done per ray): one primitive per
+// solid; the ray arrives in the prototype's object space (Embree applies the instance transform).
+void solid_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto* solids = static_cast<const HalfSpaceSolid*>(args->geometryUserPtr);
+  const Bounds3& b = solids[args->primID].bounds;
+  *args->bounds_o = RTCBounds{b.lo.x, b.lo.y, b.lo.z, 0.0f, b.hi.x, b.hi.y, b.hi.z, 0.0f};
+}
+
+void solid_intersect(const RTCIntersectFunctionNArguments* args) {
+  const auto* solids = static_cast<const HalfSpaceSolid*>(args->geometryUserPtr);
+  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const Vec3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i), RTCRayN_org_z(ray, args->N, i));
+    const Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i));
+    SolidHit h;
+    if (!intersect_solid(solids[args->primID], o, d, RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), &h))
+      continue;
+    RTCRayN_tfar(ray, args->N, i) = h.t;
+    RTCHitN_Ng_x(hit, args->N, i) = h.normal.x;
+    RTCHitN_Ng_y(hit, args->N, i) = h.normal.y;
+    RTCHitN_Ng_z(hit, args->N, i) = h.normal.z;
+    RTCHitN_u(hit, args->N, i) = 0.0f;
+    RTCHitN_v(hit, args->N, i) = 0.0f;
+    RTCHitN_primID(hit, args->N, i) = args->primID;
+    RTCHitN_geomID(hit, args->N, i) = args->geomID;
+    for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
+      RTCHitN_instID(hit, args->N, i, l) = args->context->instID[l];
+  }
+}
+
+void solid_occluded(const RTCOccludedFunctionNArguments* args) {
+  const auto* solids = static_cast<const HalfSpaceSolid*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const Vec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                 RTCRayN_org_z(args->ray, args->N, i));
+    const Vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                 RTCRayN_dir_z(args->ray, args->N, i));
+    // A turbid crown does not block shadow rays: the integrator attenuates them by Beer's law.
+    if (solids[args->primID].leaf_area_density > 0.0f) continue;
+    SolidHit h;
+    if (intersect_solid(solids[args->primID], o, d, RTCRayN_tnear(args->ray, args->N, i),
+                        RTCRayN_tfar(args->ray, args->N, i), &h))
+      RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
   }
 }
 
@@ -63,7 +113,8 @@ struct EmbreeScene::Impl {
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
   std::vector<RTCScene> prototypes;
-  std::vector<unsigned> leaf_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
+  std::vector<unsigned> leaf_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
+  std::vector<unsigned> solid_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
 
   ~Impl() {
@@ -134,10 +185,26 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
       rtcReleaseGeometry(g);
       stats_.leaf_quads += lq.size();
     }
+    unsigned solid_id = RTC_INVALID_GEOMETRY_ID;
+    if (!proto.solids.empty()) {
+      if (proto.solid_palettes.size() != proto.solids.size())
+        throw Error(fmt::format("prototype '{}': every solid needs a material palette", proto.name));
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+      rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(proto.solids.size()));
+      rtcSetGeometryUserData(g, const_cast<HalfSpaceSolid*>(proto.solids.data()));
+      rtcSetGeometryBoundsFunction(g, solid_bounds, nullptr);
+      rtcSetGeometryIntersectFunction(g, solid_intersect);
+      rtcSetGeometryOccludedFunction(g, solid_occluded);
+      rtcCommitGeometry(g);
+      solid_id = rtcAttachGeometry(s, g);
+      rtcReleaseGeometry(g);
+      stats_.solids += proto.solids.size();
+    }
     rtcCommitScene(s);
     check(device, "building a prototype BVH");
     impl_->prototypes.push_back(s);
     impl_->leaf_geom_id.push_back(leaf_id);
+    impl_->solid_geom_id.push_back(solid_id);
   }
 
   impl_->top = rtcNewScene(device);
@@ -194,7 +261,10 @@ bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
   hit->u = rh.hit.u;
   hit->v = rh.hit.v;
   if (hit->instance == RTC_INVALID_GEOMETRY_ID) return false;
-  hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[impl_->instance_prototype[hit->instance]];
+  const uint32_t proto = impl_->instance_prototype[hit->instance];
+  hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[proto];
+  hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
+  if (hit->solid) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }
 

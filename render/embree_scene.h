@@ -19,15 +19,18 @@ namespace sylva {
 struct RayHit {
   float t = 0;
   uint32_t instance = 0;
-  bool leaf = false;  // hit a leaf quad (else a triangle)
+  bool leaf = false;   // hit a leaf quad (else a triangle or a solid)
+  bool solid = false;  // hit a solid: `primitive` indexes Prototype::solids
   uint32_t primitive = 0;
   float u = 0, v = 0;  // Embree's barycentrics (triangles) or quad coordinates (leaves)
+  Vec3 normal{0.0f};   // solids: the unit outward normal in object space
 };
 
 struct EmbreeStats {
   size_t bvh_bytes = 0;  // peak memory Embree reported through its memory monitor
   double build_ms = 0;
   size_t triangles = 0, leaf_quads = 0, instances = 0;  // unique geometry
+  size_t solids = 0;
   size_t instanced_triangles = 0, instanced_leaf_quads = 0;
 };
 

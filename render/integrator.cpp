@@ -1,5 +1,6 @@
 #include "render/integrator.h"
 
+#include "render/materials/leaf_medium.h"
 #include "render/materials/material.h"
 
 #include <bit>
@@ -38,6 +39,34 @@ Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Envi
   normal_from_object_.reserve(scene.instances.size());
   for (const Instance& inst : scene.instances)
     normal_from_object_.push_back(glm::transpose(glm::inverse(Mat3(inst.world_from_object))));
+  for (const Prototype& p : scene.prototypes)
+    for (const HalfSpaceSolid& solid : p.solids) has_media_ = has_media_ || solid.leaf_area_density > 0.0f;
+}
+
+const HalfSpaceSolid* Integrator::turbid_solid(const RayHit& hit) const {
+  if (!hit.solid) return nullptr;
+  const HalfSpaceSolid& solid = scene_.prototypes[scene_.instances[hit.instance].prototype].solids[hit.primitive];
+  return solid.leaf_area_density > 0.0f ? &solid : nullptr;
+}
+
+float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& rays) const {
+  if (!has_media_) return 1.0f;
+  constexpr int kMaxCrossings = 256;
+  double optical_depth = 0.0;
+  Ray ray{o, d};
+  for (int i = 0; i < kMaxCrossings; ++i) {
+    RayHit hit;
+    ++rays;
+    if (!embree_.intersect(ray, &hit)) break;
+    const HalfSpaceSolid* medium = turbid_solid(hit);
+    if (medium == nullptr) return 0.0f;
+    const Vec3 n = normal_from_object_[hit.instance] * hit.normal;
+    const bool entering = glm::dot(d, n) < 0.0f;
+    // Leaving a crown: the segment since the last crossing (or the start) was inside it.
+    if (!entering) optical_depth += static_cast<double>(kSphericalG * medium->leaf_area_density) * hit.t;
+    ray = Ray{offset_ray_origin(ray.origin + hit.t * d, entering ? -n : n), d};
+  }
+  return static_cast<float>(std::exp(-optical_depth));
 }
 
 SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) const {
@@ -50,6 +79,18 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
   si.primitive = hit.primitive;
   si.leaf = hit.leaf;
   Vec3 p_obj, ng_obj, ns_obj;
+  if (hit.solid) {
+    // A half-space solid (Fournier–Grindal): the point on the world ray, its texture looked up in
+    // the crown's own coordinates (§4) to pick the palette material.
+    si.p = ray.origin + hit.t * ray.direction;
+    p_obj = Vec3(glm::inverse(inst.world_from_object) * Vec4(si.p, 1.0f));
+    const std::vector<uint32_t>& palette = proto.solid_palettes[hit.primitive];
+    const HalfSpaceSolid& solid = proto.solids[hit.primitive];
+    si.material = palette[solid_palette_index(solid.colouring, p_obj, static_cast<uint32_t>(palette.size()))];
+    si.ng = glm::normalize(nfo * hit.normal);
+    si.ns = si.ng;
+    return si;
+  }
   if (hit.leaf) {
     const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
     // Embree's quad parametrisation: triangle (c0,c1,c3) for u+v <= 1, (c2,c3,c1) beyond.
@@ -87,10 +128,69 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
                                      uint64_t& rays) const {
   SampledSpectrum L(0.0f), beta(1.0f);
   float prev_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that produced `ray`; 0 = camera ray
+  // The turbid crown the path is in (docs/fournier_grindal.md): σ_t = G·LAD, 0 outside; crossing a
+  // crown's boundary is not a scattering event and does not count towards the depth.
+  float sigma_t = 0.0f;
+  uint32_t medium_material = 0;
+  int crossings = 0;
   for (int depth = 0;; ++depth) {
     RayHit hit;
     ++rays;
-    if (!embree_.intersect(ray, &hit)) {
+    const bool found = embree_.intersect(ray, &hit);
+    if (sigma_t > 0.0f) {
+      // Free-flight sampling: a collision with a leaf before the next surface scatters the path.
+      const float s = -std::log(1.0f - rng.uniform()) / sigma_t;
+      if (s < (found ? hit.t : std::numeric_limits<float>::infinity())) {
+        if (depth + 1 > settings_.max_depth) break;
+        const Vec3 p = ray.origin + s * ray.direction;
+        const Bsdf leaf(scene_.materials[medium_material], wl, true);
+        const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
+        const Vec2 u_light(rng.uniform(), rng.uniform());
+        const float u_select = rng.uniform();
+        if (!environment_.empty()) {
+          const LightSample ls = environment_.sample(u_light, u_select, wl);
+          if (ls.pdf > 0 && !is_black(ls.radiance)) {
+            const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
+            if (!is_black(f) && ++rays && !embree_.occluded(p, ls.wi, std::numeric_limits<float>::infinity())) {
+              const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
+              L += beta * f * ls.radiance * (medium_transmittance(p, ls.wi, rays) * w / ls.pdf);
+            }
+          }
+        }
+        const Vec2 u_normal(rng.uniform(), rng.uniform()), u_direction(rng.uniform(), rng.uniform());
+        const float u_lobe = rng.uniform();
+        LeafPhaseSample ps;
+        if (!sample_leaf_phase(phase, ray.direction, u_normal, u_direction, u_lobe, &ps)) break;
+        beta *= ps.weight;
+        prev_pdf = ps.pdf;
+        ray = Ray{p, ps.direction};
+        if (depth + 1 >= settings_.rr_start_depth) {
+          const float q = std::max(0.05f, 1.0f - max_component(beta));
+          if (rng.uniform() < q) break;
+          beta /= 1.0f - q;
+        }
+        if (is_black(beta)) break;
+        continue;
+      }
+    }
+    if (found) {
+      if (const HalfSpaceSolid* medium = turbid_solid(hit)) {
+        const Vec3 n = glm::normalize(normal_from_object_[hit.instance] * hit.normal);
+        const bool entering = glm::dot(ray.direction, n) < 0.0f;
+        if (entering) {
+          const Prototype& proto = scene_.prototypes[scene_.instances[hit.instance].prototype];
+          sigma_t = kSphericalG * medium->leaf_area_density;
+          medium_material = proto.solid_palettes[hit.primitive].front();
+        } else {
+          sigma_t = 0.0f;
+        }
+        ray = Ray{offset_ray_origin(ray.origin + hit.t * ray.direction, entering ? -n : n), ray.direction};
+        if (++crossings > 1024) break;
+        --depth;
+        continue;
+      }
+    }
+    if (!found) {
       const SampledSpectrum le = environment_.eval(ray.direction, wl);
       if (depth == 0 || faults_.mis_weight_one) {
         L += beta * le;
@@ -129,11 +229,12 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
         // The geometric and shading sides must agree, or light would leak through the surface.
         if ((wi_local.z > 0) == !transmits && cos_g != 0) {
           const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
+          const Vec3 shadow_origin = offset_ray_origin(si.p, transmits ? -ng : ng);
           if (!is_black(f) && ++rays &&
-              !embree_.occluded(offset_ray_origin(si.p, transmits ? -ng : ng), ls.wi,
-                                std::numeric_limits<float>::infinity())) {
+              !embree_.occluded(shadow_origin, ls.wi, std::numeric_limits<float>::infinity())) {
             const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
-            L += beta * f * std::abs(wi_local.z) * ls.radiance * (w / ls.pdf);
+            const float transmittance = has_media_ ? medium_transmittance(shadow_origin, ls.wi, rays) : 1.0f;
+            L += beta * f * std::abs(wi_local.z) * ls.radiance * (w * transmittance / ls.pdf);
           }
         }
       }

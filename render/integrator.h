@@ -58,6 +58,11 @@ class Integrator {
   // The surface at a hit (world space), from the prototype's mesh data.
   SurfaceInteraction interaction(const Ray& ray, const RayHit& hit) const;
 
+  // Beer's law along o + t d (d unit) through the turbid crowns it crosses, exp(−Σ σ_t·length),
+  // σ_t = G·LAD; assumes no opaque surface on the way (check occluded() first) and crowns that do
+  // not overlap. 1 in scenes without turbid crowns.
+  float medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& rays) const;
+
  private:
   const Scene& scene_;
   const EmbreeScene& embree_;
@@ -65,6 +70,10 @@ class Integrator {
   IntegratorSettings settings_;
   TransportFaults faults_;
   std::vector<Mat3> normal_from_object_;  // per instance: inverse transpose of the linear part
+  bool has_media_ = false;                // some prototype has a turbid crown
+
+  // The turbid crown a hit is on, or nullptr.
+  const HalfSpaceSolid* turbid_solid(const RayHit& hit) const;
 };
 
 // Moves `p` off the surface along `n` (the side the new ray leaves to) by a few ulps scaled with

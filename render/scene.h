@@ -4,6 +4,7 @@
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
 #include "geometry/mesh.h"
+#include "geometry/solids/half_space.h"
 #include "render/lights/lights.h"
 #include "render/materials/material.h"
 #include "render/sensors/camera.h"
@@ -20,6 +21,11 @@ struct Prototype {
   uint32_t triangle_material = 0;
   LeafQuads leaves;
   uint32_t leaf_material = 0;
+  // Solids intersected exactly (Fournier–Grindal crowns and trunks: Embree user geometry), each
+  // with a palette of materials its colouring picks from (solid_palette_index); one palette per
+  // solid, never empty.
+  std::vector<HalfSpaceSolid> solids;
+  std::vector<std::vector<uint32_t>> solid_palettes;
 };
 
 // A placed copy of a prototype. `world_from_object` is an affine transform.

@@ -291,6 +291,10 @@ class SceneParser {
       // `leaves = false`: the stems only (a bare tree, e.g. for a silhouette of the branching).
       const bool with_leaves = t->boolean("leaves", true);
       const Species& species = load_species_once(file);
+      if (const auto* fg = std::get_if<FournierGrindalParams>(&species.model)) {
+        place_solid_tree(*t, species, *fg, seed);
+        continue;
+      }
       const std::vector<uint32_t> materials = tree_materials(*t, species, with_leaves);
       std::string key = fmt::format("{}|{}|{}|{}|{}|{}|{}", file.string(), seed, options.quality, options.time_s,
                                     options.wind_speed, options.wind_gust, with_leaves);
@@ -337,6 +341,50 @@ class SceneParser {
       }
       for (const uint32_t proto : it->second) place(*t, proto);
     }
+  }
+
+  // A Fournier–Grindal tree: one prototype holding its solids (trunk, crown), made once per
+  // (species, seed, materials). `bark` and `leaf` are optional: without them the species' §5 bark
+  // palette and §4 crown palette become diffuse reflectances (Smits up-sampling), the paper's
+  // opaque textured surface.
+  void place_solid_tree(const Params& t, const Species& species, const FournierGrindalParams& fg, uint64_t seed) {
+    if (t.has("flower")) t.fail("flower", "'flower' is for models with flowers (TREE-MAKER templates)");
+    if (t.has("dead_bark")) t.fail("dead_bark", "'dead_bark' is for models with dead branches");
+    const auto palette = [&](const char* key, const std::string& what, const std::vector<Vec3>& rgb) {
+      if (t.has(key)) return std::vector<uint32_t>{material_ref(t, key)};
+      std::vector<uint32_t> ids;
+      for (size_t i = 0; i < rgb.size(); ++i) {
+        const std::string name = fmt::format("{} {} colour {} ({:.3f}, {:.3f}, {:.3f})", species.file.string(), what, i,
+                                             rgb[i].x, rgb[i].y, rgb[i].z);
+        auto found = material_ids_.find(name);
+        if (found == material_ids_.end())
+          found =
+              material_ids_.emplace(name, out_.scene.add_material(name, make_diffuse(name, rgb_to_reflectance(rgb[i]))))
+                  .first;
+        ids.push_back(found->second);
+      }
+      return ids;
+    };
+    const std::vector<uint32_t> bark = palette("bark", "bark", fournier_grindal_bark_palette(fg, seed));
+    if (fg.leaf_area_density > 0.0f && !t.has("leaf"))
+      t.fail("a turbid crown (optics = \"turbid\") needs 'leaf': the leaves' reflectance and transmittance");
+    const std::vector<uint32_t> crown = palette("leaf", "crown", fg.crown_rgb);
+    std::string key = fmt::format("{}|{}|solids", species.file.string(), seed);
+    for (const uint32_t m : bark) key += fmt::format("|{}", m);
+    for (const uint32_t m : crown) key += fmt::format("|c{}", m);
+    auto it = tree_prototypes_.find(key);
+    if (it == tree_prototypes_.end()) {
+      Prototype p;
+      p.name = t.string("name", species.name);
+      try {
+        p.solids = make_tree(fg, seed, TreeOptions{}).solids;
+      } catch (const Error& e) {
+        t.fail(species.file.string() + ": " + e.what());
+      }
+      for (const HalfSpaceSolid& solid : p.solids) p.solid_palettes.push_back(solid.material_slot == 0 ? bark : crown);
+      it = tree_prototypes_.emplace(key, std::vector<uint32_t>{out_.scene.add_prototype(std::move(p))}).first;
+    }
+    for (const uint32_t proto : it->second) place(t, proto);
   }
 
   // Dead branches' bark when the scene names none: a copy of `bark` with its reflectance halved

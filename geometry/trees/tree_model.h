@@ -4,6 +4,7 @@
 
 #include "core/math.h"
 #include "geometry/leaf_shape.h"
+#include "geometry/solids/half_space.h"
 
 #include <cstdint>
 #include <vector>
@@ -79,6 +80,9 @@ struct TreeModel {
   TreeStems stems;
   StemSections sections;
   TreeLeaves leaves;
+  // Solids rendered by direct intersection rather than meshed (Fournier–Grindal crowns and trunks,
+  // geometry/trees/fournier_grindal/); HalfSpaceSolid::material_slot 0 = bark, 1 = foliage.
+  std::vector<HalfSpaceSolid> solids;
 };
 
 }  // namespace sylva

@@ -8,6 +8,7 @@
 // own, one line in scenes/species.cpp's format table).
 
 #include "geometry/trees/hart_baker/hart_baker.h"
+#include "geometry/trees/fournier_grindal/fournier_grindal.h"
 #include "geometry/trees/lsystem/aspen_grammar.h"
 #include "geometry/trees/lsystem/lsystem.h"
 #include "geometry/trees/tree_model.h"
@@ -22,17 +23,15 @@ namespace sylva {
 
 // The registered tree models.
 using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate,
-                                     HartBakerParams>;
+                                     HartBakerParams, FournierGrindalParams>;
 
 // Generates the tree structure for a seed. Pure: the same inputs give a bit-identical model.
 // Constrained so a registered model without its own make_tree is a compile error, not a call of
 // this function with the parameters converted back to the variant.
 template <typename Variant>
-  requires std::same_as<Variant, TreeModelParams>
-TreeModel make_tree(const Variant& params, uint64_t seed, const TreeOptions& options = {}) {
-  return std::visit(
-      [&](const auto& p) { return make_tree(p, seed, options); },
-      params);
+requires std::same_as<Variant, TreeModelParams> TreeModel make_tree(const Variant& params, uint64_t seed,
+                                                                    const TreeOptions& options = {}) {
+  return std::visit([&](const auto& p) { return make_tree(p, seed, options); }, params);
 }
 
 }  // namespace sylva

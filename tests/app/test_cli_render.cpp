@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <signal.h>
 
 #include <chrono>
@@ -149,6 +151,30 @@ TEST(CliExport, FlattensTheSceneToObj) {
   for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
   EXPECT_EQ(faces, 2522u + 2u * 27000u);
   EXPECT_NE(r.out.find("--vp"), std::string::npos) << r.out;  // the matching pathtracer camera
+}
+
+TEST(CliExport, PolygonisesHalfSpaceCrowns) {
+  // A Fournier–Grindal tree in two places: its solids polygonised once, placed twice.
+  const fs::path dir = fresh_dir("cli_export_crowns");
+  const std::string species = (fs::path(SYLVA_SOURCE_DIR) / "data" / "species" / "fg_conifer.toml").string();
+  {
+    std::ofstream scene(dir / "s.toml");
+    scene << "[[trees]]\nspecies = \"" << species
+          << "\"\ninstances = [{ translate = [0, 0, 0] }, { translate = [5, 0, 0] }]\n";
+  }
+  const auto r =
+      run_sylva("export '" + (dir / "s.toml").string() + "' --obj '" + (dir / "s.obj").string() + "' -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto tree = run_sylva("tree '" + species + "' --obj '" + (dir / "tree.obj").string() + "'", dir);
+  ASSERT_EQ(tree.exit_code, 0) << tree.err;
+  const auto faces = [](const std::string& obj) {
+    size_t n = 0;
+    for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++n;
+    return n;
+  };
+  const size_t one = faces(read_text(dir / "tree.obj"));
+  EXPECT_GT(one, 1000u);
+  EXPECT_EQ(faces(read_text(dir / "s.obj")), 2 * one);
 }
 
 TEST(CliRender, HelpListsTheOptions) {

@@ -3,6 +3,8 @@
 
 #include "core/error.h"
 #include "geometry/primitives.h"
+#include "geometry/trees/fournier_grindal/fournier_grindal.h"
+#include "render/materials/leaf_medium.h"
 #include "render/renderer.h"
 #include "tests/render/render_test_scenes.h"
 
@@ -98,13 +100,86 @@ TEST(Transport, WhiteFurnaceClosedLambertianObjects) {
   // A closed box and a sphere of albedo 1 (instanced, scaled) under a uniform unit sky: radiance 1.
   Scene s = furnace_scene();
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
-  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0};
-  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0};
+  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}};
+  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0, {}, {}};
   s.instances.push_back({s.add_prototype(box), glm::translate(Mat4(1.0f), Vec3(-0.6f, 0, 0)), 0});
   s.instances.push_back(
       {s.add_prototype(sphere), glm::scale(glm::translate(Mat4(1.0f), Vec3(0.7f, 0, 0.5f)), Vec3(1.3f)), 0});
   const Image img = render_image(s, 24, 24, 64);
   expect_channels(img, band_value_of_constant, "closed furnace");
+}
+
+TEST(Transport, WhiteFurnaceHalfSpaceSolids) {
+  // A Fournier–Grindal crown (fBm-displaced, sphere-traced) and its trunk, albedo 1, instanced and
+  // scaled, under a uniform unit sky: radiance 1 (the user geometry's normals and self-hits agree).
+  Scene s = furnace_scene();
+  const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
+  FournierGrindalParams fg;
+  fg.normals = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1.2f}, {0, 0, -0.8f}};
+  fg.displacement_m = 0.15f;
+  fg.fbm.wavelength_m = 0.5f;
+  fg.crown_base_m = 0.5f;
+  fg.trunk_radius_m = 0.08f;
+  fg.trunk_top_radius_m = 0.05f;
+  Prototype p;
+  p.solids = make_fournier_grindal_tree(fg, 4).solids;
+  p.solid_palettes.assign(p.solids.size(), {m});
+  s.instances.push_back({s.add_prototype(p), glm::scale(glm::translate(Mat4(1.0f), Vec3(0, 0, -0.6f)), Vec3(0.8f)), 0});
+  const Image img = render_image(s, 24, 24, 64);
+  expect_channels(img, band_value_of_constant, "half-space furnace");
+}
+
+TEST(Transport, WhiteFurnaceTurbidCrown) {
+  // A volumetric Fournier–Grindal crown (fBm-displaced boundary) of leaves with ρ + τ = 1 around an
+  // albedo-1 trunk, under a uniform unit sky: radiance 1 (free flight, the leaf phase function's
+  // sampling and evaluation, and Beer's-law shadow rays agree).
+  Scene s = furnace_scene();
+  const uint32_t white = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
+  const uint32_t leaf =
+      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.45f), DenseSpectrum::constant(0.55f)));
+  FournierGrindalParams fg;
+  fg.normals = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1.2f}, {0, 0, -0.8f}};
+  fg.displacement_m = 0.15f;
+  fg.fbm.wavelength_m = 0.5f;
+  fg.crown_base_m = 0.5f;
+  fg.trunk_radius_m = 0.08f;
+  fg.trunk_top_radius_m = 0.05f;
+  fg.leaf_area_density = 3.0f;
+  Prototype p;
+  p.solids = make_fournier_grindal_tree(fg, 4).solids;
+  for (const HalfSpaceSolid& solid : p.solids) p.solid_palettes.push_back({solid.material_slot == 0 ? white : leaf});
+  s.instances.push_back({s.add_prototype(p), glm::scale(glm::translate(Mat4(1.0f), Vec3(0, 0, -0.6f)), Vec3(0.8f)), 0});
+  const Image img = render_image(s, 24, 24, 64);
+  expect_channels(img, band_value_of_constant, "turbid crown furnace");
+}
+
+TEST(Transport, TurbidSlabTransmitsBeersLaw) {
+  // Black leaves (ρ = τ = 0) in a slab 1 m thick, LAD 1.2, between the camera and a uniform unit
+  // sky: every pixel sees exp(−G·LAD·1 m) = exp(−0.6) (the camera's 2° field changes the path by
+  // < 0.02 %).
+  Scene s = furnace_scene();
+  s.camera.position = {0, -6, 0};
+  s.camera.target = {0, 0, 0};
+  std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 2;
+  const uint32_t black =
+      s.add_material("black", make_leaf("black", DenseSpectrum::constant(0.0f), DenseSpectrum::constant(0.0f)));
+  HalfSpaceSolid slab;
+  for (int axis = 0; axis < 3; ++axis)
+    for (const float sign : {-1.0f, 1.0f}) {
+      Vec3 n(0.0f);
+      n[axis] = sign;
+      slab.planes.push_back(HalfSpace{n, axis == 1 ? 0.5f : 50.0f});
+    }
+  slab.leaf_area_density = 1.2f;
+  finish_solid(slab);
+  Prototype p;
+  p.solids = {slab};
+  p.solid_palettes = {{black}};
+  s.instances.push_back({s.add_prototype(p), Mat4(1.0f), 0});
+  const Image img = render_image(s, 16, 16, 1024);
+  const double expected = std::exp(-kSphericalG * 1.2);
+  expect_channels(
+      img, [&](const DenseSpectrum& w) { return expected * w.integral(); }, "turbid slab");
 }
 
 TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {
@@ -121,7 +196,8 @@ TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {
     std::vector<double> l = {300, 500, 700, 900, 2500}, v = {0.1, 0.2, 0.5, 0.6, 0.3};
     const DenseSpectrum rho = DenseSpectrum::from_samples(l, v, Extrapolate::Clamp);
     const uint32_t m = s.add_material("soil", make_diffuse("soil", rho));
-    s.instances.push_back({s.add_prototype(Prototype{"ground", make_plane(1000, 1000), m, {}, 0}), Mat4(1.0f), 0});
+    s.instances.push_back(
+        {s.add_prototype(Prototype{"ground", make_plane(1000, 1000), m, {}, 0, {}, {}}), Mat4(1.0f), 0});
     const Image img = render_image(s, 16, 16, 256, 0, 4);
     const double cos_theta = std::sin(radians(elevation));
     expect_channels(
@@ -142,7 +218,7 @@ TEST(Transport, GroundBelowTheHorizonLightsAPlaneFromBelow) {
   std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 40;
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(0.8f)));
   const Mat4 flip = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, 2)), kPi, Vec3(1, 0, 0));
-  s.instances.push_back({s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0}), flip, 0});
+  s.instances.push_back({s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0, {}, {}}), flip, 0});
   const Image img = render_image(s, 16, 16, 256, 0, 4);
   DenseSpectrum ground = s.sky.spectrum;
   for (int i = 0; i < kLambdaSamples; ++i) ground[i] += s.sun.irradiance[i] * std::sin(radians(50.0f));

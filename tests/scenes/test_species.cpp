@@ -90,7 +90,7 @@ TEST(Species, TomlErrorsCarryFileAndLine) {
   EXPECT_EQ(error_of("name = \"x\"\n"), "bad.toml:1: missing key 'model' (e.g. model = \"weber-penn\")");
   EXPECT_EQ(error_of("model = \"lsys\"\n"),
             "bad.toml:1: unknown model \"lsys\" (this version reads \"weber-penn\", \"lsystem\", \"aspen-grammar\", "
-            "\"treemaker\", \"hart-baker\")");
+            "\"treemaker\", \"hart-baker\", \"fournier-grindal\")");
   EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = 7\nBaseSise = 0.4\n"),
             "bad.toml:3: unknown parameter 'BaseSise'");
   EXPECT_EQ(error_of("model = \"weber-penn\"\n\nShape = 9\n"), "bad.toml:3: 'Shape' must be in [0, 8], not 9");
