@@ -104,6 +104,47 @@ TEST(Radiometry, LambertianPanelReadsItsOwnReflectanceInEveryBand) {
     }
 }
 
+// Inside a conservative leaf cloud (ρ + τ = 1) under a uniform unit sky the radiance is 1 in every
+// direction, however many bounces light takes to get in: the mean over the image and its standard
+// error for `max_depth`.
+std::pair<double, double> furnace_inside_cloud(int max_depth) {
+  Scene s;
+  s.sun.enabled = false;
+  s.sky.model = UniformSky{};
+  s.sky.spectrum = DenseSpectrum::constant(1.0f);
+  s.camera.position = {0, 0, 0};
+  s.camera.target = {1, 0, 0};
+  const uint32_t m =
+      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.55f), DenseSpectrum::constant(0.45f)));
+  Prototype p;
+  LeafCloudParams lc;
+  lc.radii = Vec3(1.0f);
+  lc.count = 2500;
+  lc.leaf_length_m = 0.15f;
+  lc.leaf_width_m = 0.1f;
+  p.leaves = make_leaf_cloud(lc, 7);
+  p.leaf_material = m;
+  s.instances.push_back({s.add_prototype(p), Mat4(1.0f), 0});
+  RenderSettings settings = test::test_settings(16, 16, 32, max_depth);
+  settings.bands = {resolve_band("nir")};
+  Renderer r(s, settings);
+  Film film = r.make_film();
+  r.render(film);
+  return image_mean(r.make_image(film), "nir.Y");
+}
+
+TEST(Radiometry, DefaultPathLengthIsUnbiasedInAConservativeCanopy) {
+  // Russian roulette ends the paths; the default cap (IntegratorSettings) never matters here,
+  // while a cap of 16 bounces loses the light that needs more.
+  const auto [mean, se] = furnace_inside_cloud(IntegratorSettings{}.max_depth);
+  std::printf("[radiometry] furnace inside a canopy, default depth %d: %.5f ± %.5f\n", IntegratorSettings{}.max_depth,
+              mean, se);
+  EXPECT_LT(std::abs(mean - 1.0), 4.5 * se);
+  const auto [mean16, se16] = furnace_inside_cloud(16);
+  std::printf("[radiometry] furnace inside a canopy, depth 16: %.5f ± %.5f\n", mean16, se16);
+  EXPECT_LT(mean16, 1.0 - 4.5 * se16);
+}
+
 TEST(Radiometry, ReflectanceNeedsIrradiance) {
   Scene s = panel_scene(DenseSpectrum::constant(0.5f), 30);
   s.sun.enabled = false;
