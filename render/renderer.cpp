@@ -198,6 +198,9 @@ Image Renderer::make_image(const Film& film) const {
   add("N.X", PixelType::Half);
   add("N.Y", PixelType::Half);
   add("N.Z", PixelType::Half);
+  add("P.X", PixelType::Float);
+  add("P.Y", PixelType::Float);
+  add("P.Z", PixelType::Float);
   add("id.instance", PixelType::UInt);
   add("id.object", PixelType::UInt);
   check_film(film);
@@ -230,10 +233,13 @@ Image Renderer::make_image(const Film& film) const {
           image.at(ix, iy, z + 1) = n.x;
           image.at(ix, iy, z + 2) = n.y;
           image.at(ix, iy, z + 3) = n.z;
-          image.at(ix, iy, z + 4) = static_cast<float>(hit.instance + 1);
-          image.at(ix, iy, z + 5) = static_cast<float>(scene_.instances[hit.instance].object_id);
+          for (int i = 0; i < 3; ++i) image.at(ix, iy, z + 4 + i) = si.p[i];
+          image.at(ix, iy, z + 7) = static_cast<float>(hit.instance + 1);
+          image.at(ix, iy, z + 8) = static_cast<float>(scene_.instances[hit.instance].object_id);
         } else {
           image.at(ix, iy, z) = 1e10f;
+          // The sky: a point 10¹⁰ m along the ray, like Z.
+          for (int i = 0; i < 3; ++i) image.at(ix, iy, z + 4 + i) = ray.origin[i] + 1e10f * ray.direction[i];
         }
       }
     });

@@ -92,6 +92,7 @@ class Renderer {
   // AOV per band channel
   // ("albedo.<C>"), and the first-hit AOVs from a ray through each pixel centre: "Z" (camera-space
   // depth in m; 1e10 for the sky), "N.X/N.Y/N.Z" (world geometric normal facing the camera),
+  // "P.X/P.Y/P.Z" (world position of the hit, m; for the sky the point 1e10 m along the ray),
   // "id.instance" (instance index + 1, 0 = sky) and "id.object".
   Image make_image(const Film& film) const;
 
