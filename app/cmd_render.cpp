@@ -182,6 +182,8 @@ CommandRun add_render_command(CLI::App& parent) {
   cmd->add_option("--seed", req.seed, "Random seed")->check(CLI::Range(int64_t{0}, INT64_MAX));
   cmd->add_option("--bands", req.bands, "Comma-separated bands, e.g. rgb,nir,S2A_B8");
   cmd->add_option("--max-depth", req.max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
+  cmd->add_option("--quantity", req.quantity, "Band channels as radiance or reflectance (factor)")
+      ->check(CLI::IsMember({"radiance", "reflectance"}));
   cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes,
                   "Write a checkpoint this often (0 = only on interrupt)")
       ->check(CLI::Range(0.0, 1e6));

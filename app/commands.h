@@ -18,5 +18,6 @@ CommandRun add_export_command(CLI::App& parent);
 CommandRun add_golden_command(CLI::App& parent);
 CommandRun add_merge_command(CLI::App& parent);
 CommandRun add_grow_command(CLI::App& parent);
+CommandRun add_bands_command(CLI::App& parent);
 
 }  // namespace sylva

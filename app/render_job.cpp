@@ -78,6 +78,7 @@ RenderJob prepare_render(const RenderRequest& request) {
   if (request.seed >= 0) settings.seed = static_cast<uint64_t>(request.seed);
   settings.threads = request.threads;
   if (request.max_depth > 0) settings.integrator.max_depth = request.max_depth;
+  if (!request.quantity.empty()) settings.quantity = parse_quantity(request.quantity);
   if (!request.bands.empty()) settings.bands = resolve_bands(job.file, split_list(request.bands));
   settings.progress = request.progress;
   return job;
@@ -92,7 +93,8 @@ std::map<std::string, std::string> describe_job(const RenderRequest& request, co
       {"res", fmt::format("{}x{}", s.width, s.height)},
       {"seed", std::to_string(s.seed)},
       {"max_depth", std::to_string(s.integrator.max_depth)},
-      {"bands", bands}};
+      {"bands", bands},
+      {"quantity", quantity_name(s.quantity)}};
   // Hexadecimal: the exact double, so the merge rebuilds the same scene.
   if (request.time_s) fields["time"] = fmt::format("{:a}", *request.time_s);
   return fields;
@@ -106,6 +108,7 @@ RenderRequest request_from_job(const std::map<std::string, std::string>& fields,
   r.seed = to_int("seed", field(fields, "seed"));
   r.max_depth = static_cast<int>(to_int("max_depth", field(fields, "max_depth")));
   r.bands = field(fields, "bands");
+  if (const auto it = fields.find("quantity"); it != fields.end()) r.quantity = it->second;
   if (const auto it = fields.find("time"); it != fields.end()) {
     char* end = nullptr;
     r.time_s = std::strtod(it->second.c_str(), &end);

@@ -22,6 +22,7 @@ struct RenderRequest {
   int64_t seed = -1;
   std::string bands;  // comma-separated
   int max_depth = 0;
+  std::string quantity;  // "radiance" or "reflectance"
   int threads = 0;
   bool progress = false;
   std::optional<double> time_s;  // wind time of every tree (SceneOptions::time_s)

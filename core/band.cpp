@@ -71,6 +71,7 @@ Band make_rgb_band() {
     b.weights.push_back(w);
   }
   b.importance = normalised(cie_x() + cie_y() + cie_z());
+  b.source = "CIE 1931 2-degree colour-matching functions (data/cie1931_2deg_cmf_1nm.csv) -> linear Rec.709, D65";
   return b;
 }
 
@@ -88,7 +89,31 @@ Band make_srf_band(const std::string& name, const DenseSpectrum& response_in) {
 }
 
 Band load_band(const std::string& name, const std::filesystem::path& file, const std::string& column) {
-  return make_srf_band(name, load_spectrum(file, column, Extrapolate::Zero));
+  Band b = make_srf_band(name, load_spectrum(file, column, Extrapolate::Zero));
+  b.source = file.filename().string() + ", column " + column;
+  return b;
+}
+
+ChannelSummary summarise_channel(const DenseSpectrum& weight) {
+  DenseSpectrum s;
+  for (int i = 0; i < kLambdaSamples; ++i) s[i] = std::max(0.0f, weight[i]);
+  ChannelSummary out;
+  const double area = s.integral(), peak = s.max_value();
+  if (!(area > 0)) return out;
+  DenseSpectrum lambda;
+  for (int i = 0; i < kLambdaSamples; ++i) lambda[i] = kLambdaMin + static_cast<float>(i);
+  out.centre_nm = s.integral_product(lambda) / area;
+  out.equivalent_width_nm = area / peak;
+  // Outermost half-maximum crossings, interpolated between 1 nm samples.
+  const double half = 0.5 * peak;
+  int lo = 0, hi = kLambdaSamples - 1;
+  while (s[lo] < half) ++lo;
+  while (s[hi] < half) --hi;
+  const double left = lo == 0 ? kLambdaMin : kLambdaMin + lo - (s[lo] - half) / (s[lo] - s[lo - 1]);
+  const double right =
+      hi == kLambdaSamples - 1 ? kLambdaMin + hi : kLambdaMin + hi + (s[hi] - half) / (s[hi] - s[hi + 1]);
+  out.fwhm_nm = right - left;
+  return out;
 }
 
 std::vector<std::string> known_band_names() {
@@ -115,8 +140,11 @@ Band resolve_band(const std::string& name) {
       const Table t = read_table(data_file(s.file));
       const std::string column = srf_column(prefix, name.substr(prefix.size()));
       for (size_t c = 1; c < t.header.size(); ++c)
-        if (t.header[c] == column)
-          return make_srf_band(name, DenseSpectrum::from_samples(t.columns[0], t.columns[c], Extrapolate::Zero));
+        if (t.header[c] == column) {
+          Band b = make_srf_band(name, DenseSpectrum::from_samples(t.columns[0], t.columns[c], Extrapolate::Zero));
+          b.source = std::filesystem::path(s.file).filename().string() + ", column " + column;
+          return b;
+        }
     }
   }
   std::string list;

@@ -21,7 +21,19 @@ struct Band {
   std::vector<std::string> channels;   // EXR channel names: "R","G","B" or "<name>.Y"
   std::vector<DenseSpectrum> weights;  // w_c(λ), one per channel
   DenseSpectrum importance;            // ≥ 0, ∫ = 1: where this band needs wavelength samples
+  std::string source;                  // where the response comes from (data file, standard)
 };
+
+// Where a channel is sensitive, from the positive part S = max(w, 0) of its weighting function
+// (docs/radiometry.md): centre = ∫ λ S / ∫ S (the response-weighted mean wavelength); FWHM =
+// distance between the outermost wavelengths where S reaches half its peak (linearly
+// interpolated); equivalent width = ∫ S / max S (the width of a rectangle of the same peak and area).
+struct ChannelSummary {
+  double centre_nm = 0;
+  double fwhm_nm = 0;
+  double equivalent_width_nm = 0;
+};
+ChannelSummary summarise_channel(const DenseSpectrum& weight);
 
 Band make_rgb_band();
 // A band from a relative spectral response; `name` must be a valid EXR layer name.

@@ -13,8 +13,11 @@
 
 namespace sylva {
 
+// Path length: Russian roulette ends paths (unbiased); max_depth is only a safety cap far beyond
+// where roulette has ended practically every path (docs/radiometry.md, "Path length"). A lower cap
+// truncates light that needs more bounces and biases bright canopies low.
 struct IntegratorSettings {
-  int max_depth = 16;      // scattering events per path
+  int max_depth = 1024;    // scattering events per path: a safety cap
   int rr_start_depth = 3;  // Russian roulette from this bounce on
 };
 

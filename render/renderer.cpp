@@ -14,6 +14,22 @@
 
 namespace sylva {
 
+const char* quantity_name(Quantity q) { return q == Quantity::reflectance ? "reflectance" : "radiance"; }
+
+Quantity parse_quantity(const std::string& name) {
+  if (name == "radiance") return Quantity::radiance;
+  if (name == "reflectance") return Quantity::reflectance;
+  throw Error("quantity must be \"radiance\" or \"reflectance\", not \"" + name + "\"");
+}
+
+std::vector<float> channel_irradiance(const Environment& environment, const std::vector<Band>& bands) {
+  const DenseSpectrum e = environment.horizontal_irradiance();
+  std::vector<float> out;
+  for (const Band& b : bands)
+    for (const DenseSpectrum& w : b.weights) out.push_back(static_cast<float>(e.integral_product(w)));
+  return out;
+}
+
 Renderer::Renderer(const Scene& scene, const EmbreeScene& embree, RenderSettings settings)
     : Renderer(scene, nullptr, &embree, std::move(settings), TransportFaults{}) {}
 
@@ -43,6 +59,12 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
     }
   if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
   environment_ = Environment(scene_.sun, scene_.sky);
+  irradiance_ = channel_irradiance(environment_, settings_.bands);
+  for (size_t c = 0; c < channels_.size(); ++c) {
+    if (settings_.quantity == Quantity::reflectance && !(irradiance_[c] > 0))
+      throw Error("reflectance: channel " + channels_[c] + " receives no irradiance from the sun and sky");
+    scale_.push_back(settings_.quantity == Quantity::reflectance ? kPi / irradiance_[c] : 1.0f);
+  }
   integrator_ = std::make_unique<Integrator>(scene_, embree_, environment_, settings_.integrator, faults);
   camera_ = Camera(scene_.camera, settings_.width, settings_.height);
   wavelengths_ = WavelengthSampler(settings_.bands);
@@ -85,7 +107,7 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
         v += L[i] * w;
         a += first.albedo[i] * w;
       }
-      values[c] = v / kLambdaCount;
+      values[c] = v / kLambdaCount * scale_[c];
       values[nc + c] = weight_integrals_[c] != 0 ? a / (kLambdaCount * weight_integrals_[c]) : 0.0f;
     }
     film.add_sample(x, y, values);
@@ -176,6 +198,9 @@ Image Renderer::make_image(const Film& film) const {
   add("N.X", PixelType::Half);
   add("N.Y", PixelType::Half);
   add("N.Z", PixelType::Half);
+  add("P.X", PixelType::Float);
+  add("P.Y", PixelType::Float);
+  add("P.Z", PixelType::Float);
   add("id.instance", PixelType::UInt);
   add("id.object", PixelType::UInt);
   check_film(film);
@@ -208,10 +233,13 @@ Image Renderer::make_image(const Film& film) const {
           image.at(ix, iy, z + 1) = n.x;
           image.at(ix, iy, z + 2) = n.y;
           image.at(ix, iy, z + 3) = n.z;
-          image.at(ix, iy, z + 4) = static_cast<float>(hit.instance + 1);
-          image.at(ix, iy, z + 5) = static_cast<float>(scene_.instances[hit.instance].object_id);
+          for (int i = 0; i < 3; ++i) image.at(ix, iy, z + 4 + i) = si.p[i];
+          image.at(ix, iy, z + 7) = static_cast<float>(hit.instance + 1);
+          image.at(ix, iy, z + 8) = static_cast<float>(scene_.instances[hit.instance].object_id);
         } else {
           image.at(ix, iy, z) = 1e10f;
+          // The sky: a point 10¹⁰ m along the ray, like Z.
+          for (int i = 0; i < 3; ++i) image.at(ix, iy, z + 4 + i) = ray.origin[i] + 1e10f * ray.direction[i];
         }
       }
     });

@@ -21,6 +21,19 @@
 
 namespace sylva {
 
+// What a band channel holds (docs/radiometry.md): the band-weighted spectral radiance
+// (W·m⁻²·sr⁻¹·nm⁻¹), or the reflectance factor π·L_c / E_c, where E_c is the band-weighted
+// irradiance on a horizontal plane from the same sun and sky (Environment::horizontal_irradiance).
+enum class Quantity { radiance, reflectance };
+
+// "radiance" / "reflectance"; parse_quantity throws sylva::Error for anything else.
+const char* quantity_name(Quantity q);
+Quantity parse_quantity(const std::string& name);
+
+// E_c = ∫ E(λ) w_c(λ) dλ for each channel of `bands`, band after band: the irradiance on a
+// horizontal plane from `environment`, weighted like the channel (W·m⁻²·nm⁻¹ for sensor bands).
+std::vector<float> channel_irradiance(const Environment& environment, const std::vector<Band>& bands);
+
 struct RenderSettings {
   int width = 640;
   int height = 360;
@@ -30,6 +43,7 @@ struct RenderSettings {
   int tile_size = 16;
   std::vector<Band> bands;  // at least one
   IntegratorSettings integrator;
+  Quantity quantity = Quantity::radiance;
   bool progress = true;  // progress bar on stderr (only when stderr is a terminal)
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;
@@ -74,9 +88,11 @@ class Renderer {
   RenderStats render(Film& film, const PixelRegion& region, SampleRange samples);
 
   // An image of the film's window (the whole image for make_film()). Channels: each band's
-  // channels (mean radiance), "var.<C>" (variance of the mean), the albedo AOV per band channel
+  // channels (mean radiance, or reflectance factor: settings.quantity), "var.<C>" (variance of the mean), the albedo
+  // AOV per band channel
   // ("albedo.<C>"), and the first-hit AOVs from a ray through each pixel centre: "Z" (camera-space
   // depth in m; 1e10 for the sky), "N.X/N.Y/N.Z" (world geometric normal facing the camera),
+  // "P.X/P.Y/P.Z" (world position of the hit, m; for the sky the point 1e10 m along the ray),
   // "id.instance" (instance index + 1, 0 = sky) and "id.object".
   Image make_image(const Film& film) const;
 
@@ -84,6 +100,8 @@ class Renderer {
   const EmbreeScene& embree() const { return embree_; }
   const EmbreeStats& embree_stats() const { return embree_.stats(); }
   const std::vector<std::string>& radiance_channels() const { return channels_; }
+  // Per radiance channel: the band-weighted horizontal irradiance E_c (channel_irradiance).
+  const std::vector<float>& irradiance() const { return irradiance_; }
 
  private:
   Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const EmbreeScene* shared, RenderSettings settings,
@@ -102,6 +120,8 @@ class Renderer {
   std::vector<std::string> channels_;          // radiance channel names, band after band
   std::vector<const DenseSpectrum*> weights_;  // w_c(λ) per radiance channel
   std::vector<float> weight_integrals_;        // ∫ w_c dλ, to normalise the albedo AOV
+  std::vector<float> irradiance_;              // E_c per radiance channel
+  std::vector<float> scale_;                   // per radiance channel: 1, or π / E_c for reflectance
 };
 
 }  // namespace sylva

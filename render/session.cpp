@@ -62,6 +62,7 @@ std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& 
   std::string key = fmt::format("sylva {} scene {} seed {} res {}x{} depth {} bands", SYLVA_VERSION, scene_hash,
                                 settings.seed, settings.width, settings.height, settings.integrator.max_depth);
   for (const Band& b : settings.bands) key += " " + b.name;
+  if (settings.quantity != Quantity::radiance) key += fmt::format(" quantity {}", quantity_name(settings.quantity));
   return key;
 }
 

@@ -70,7 +70,7 @@ class SceneParser {
  private:
   void parse_render(const Params& root) {
     const Params* t = root.table("render");
-    t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands"});
+    t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity"});
     RenderSettings& rs = out_.render;
     rs.width = static_cast<int>(t->integer("width", rs.width, 1, 65536));
     rs.height = static_cast<int>(t->integer("height", rs.height, 1, 65536));
@@ -78,6 +78,10 @@ class SceneParser {
     rs.seed = static_cast<uint64_t>(t->integer("seed", static_cast<int64_t>(rs.seed), 0, INT64_MAX));
     rs.integrator.max_depth = static_cast<int>(t->integer("max_depth", rs.integrator.max_depth, 1, 1024));
     if (t->has("bands")) out_.bands = t->strings("bands");
+    const std::string quantity = t->string("quantity", quantity_name(rs.quantity));
+    if (quantity != "radiance" && quantity != "reflectance")
+      t->fail("quantity", "quantity must be \"radiance\" or \"reflectance\"");
+    rs.quantity = parse_quantity(quantity);
   }
 
   void parse_bands(const Params& root) {
@@ -575,10 +579,26 @@ void annotate_render(Image& image, const SceneFile& file, const RenderSettings& 
   std::string bands;
   for (const Band& b : settings.bands) bands += (bands.empty() ? "" : ",") + b.name;
   image.set_attribute("sylva:bands", bands);
+  image.set_attribute("sylva:quantity", quantity_name(settings.quantity));
+  // The band-weighted horizontal irradiance per channel: the divisor of the reflectance factor.
+  const std::vector<float> e = channel_irradiance(Environment(file.scene.sun, file.scene.sky), settings.bands);
+  std::string irradiance;
+  size_t c = 0;
+  for (const Band& b : settings.bands)
+    for (const std::string& name : b.channels) {
+      irradiance += fmt::format("{}{}={:.7g}", c ? "," : "", name, e[c]);
+      ++c;
+    }
+  image.set_attribute("sylva:irradiance", irradiance);
+  const std::string values =
+      settings.quantity == Quantity::reflectance
+          ? "band channels: reflectance factor pi L_c / E_c, E_c = band-weighted irradiance on a "
+            "horizontal plane from the sun and sky (sylva:irradiance, W m^-2 nm^-1)"
+          : "band channels: SRF-weighted mean spectral radiance, W m^-2 sr^-1 nm^-1";
   image.set_attribute("sylva:units",
-                      "band channels: SRF-weighted mean spectral radiance, W m^-2 sr^-1 nm^-1; R,G,B: CIE 1931 XYZ "
-                      "(Y = luminance-weighted mean spectral radiance) in linear Rec.709 primaries; var.*: variance "
-                      "of the pixel mean; Z: camera-space depth, m");
+                      values +
+                          "; R,G,B: CIE 1931 XYZ (Y = luminance-weighted mean) in linear Rec.709 primaries; var.*: "
+                          "variance of the pixel mean; Z: camera-space depth, m");
 }
 
 }  // namespace sylva

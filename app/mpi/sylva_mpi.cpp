@@ -206,6 +206,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", req.seed, "Random seed")->check(CLI::Range(int64_t{0}, INT64_MAX));
   app.add_option("--bands", req.bands, "Comma-separated bands, e.g. rgb,nir,S2A_B8");
   app.add_option("--max-depth", req.max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
+  app.add_option("--quantity", req.quantity, "Band channels as radiance or reflectance (factor)")
+      ->check(CLI::IsMember({"radiance", "reflectance"}));
   app.add_option("--split", opt.split, "Chunks are bands of rows (tiles, default) or sample ranges (samples)")
       ->check(CLI::IsMember({"samples", "tiles"}));
   app.add_option("--chunks", opt.chunks, "Number of chunks handed out (default: 8 per rank)")

@@ -57,6 +57,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
         if (d.z > 0) horizontal += g * d.z * std::sin(theta) * dphi * dtheta;
       }
     }
+    sky_horizontal_ = horizontal;
     if (!normalised_to_horizontal(sky.model)) {
       sky_radiance_ = sky.spectrum;
       sky_power = static_cast<float>(sky.spectrum.integral() * kPi);
@@ -88,6 +89,19 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
     p_sun_ = sun_power > 0 ? 1.0f : 0.0f;
     p_sky_ = sky_power > 0 ? 1.0f : 0.0f;
   }
+}
+
+DenseSpectrum Environment::horizontal_irradiance() const {
+  DenseSpectrum e;
+  if (sky_.enabled) {
+    e = sky_radiance_;
+    e *= static_cast<float>(sky_horizontal_);
+  }
+  if (sun_.enabled) {
+    const float cos_sun = std::max(0.0f, sun_frame_.z.z);
+    for (int i = 0; i < kLambdaSamples; ++i) e[i] += sun_.irradiance[i] * cos_sun;
+  }
+  return e;
 }
 
 float Environment::sky_shape(const Vec3& dir) const {

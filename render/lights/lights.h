@@ -91,6 +91,12 @@ class Environment {
   float sun_selection_probability() const { return p_sun_; }
   // Sky radiance spectrum for relative luminance 1.
   const DenseSpectrum& sky_radiance_scale() const { return sky_radiance_; }
+  // Spectral irradiance on an upward-facing horizontal plane from the sun and the sky above the
+  // horizon, W·m⁻²·nm⁻¹ (docs/radiometry.md): the sun disc gives E_sun · max(0, cos θ_sun) (exact
+  // for a uniform disc above the horizon: ∫_disc ω dω = axis · π sin²α), the sky its radiance
+  // scale times ∫_{z>0} g(ω) cos θ dω on the 256 × 128 table (the horizontal diffuse spectrum
+  // itself for normalised models). The ground below the horizon does not reach an upward plane.
+  DenseSpectrum horizontal_irradiance() const;
 
  private:
   float sky_shape(const Vec3& dir) const;
@@ -102,6 +108,7 @@ class Environment {
   float sun_one_minus_cos_ = 0.0f;
   DenseSpectrum sun_radiance_;
   DenseSpectrum sky_radiance_;
+  double sky_horizontal_ = 0;  // ∫_{z>0} g(ω) cos θ dω, sr
   bool has_ground_ = false;
   DenseSpectrum ground_radiance_;    // uniform radiance below the horizon when has_ground_
   Distribution2D sky_distribution_;  // u = φ/2π, v = θ/θ_max
