@@ -1,11 +1,11 @@
 // `sylva tree`: generate one tree from a species file, print statistics, export OBJ/PLY.
 
+#include "app/commands.h"
 #include "core/error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/trees/tree_mesher.h"
-#include "app/commands.h"
-#include "scenes/species.h"
 #include "geometry/trees/tree_stats.h"
+#include "scenes/species.h"
 
 #include <fmt/core.h>
 
@@ -52,7 +52,7 @@ int run_tree(const TreeArgs& a) {
   const TreeModel model = make_species_model(species, a.seed, options);
   TreeMeshOptions mesh_options;
   mesh_options.quality = options.quality;
-  const TreeMesh mesh = make_tree_mesh(model, mesh_options);
+  const TreeMesh mesh = mesh_species_model(species, model, mesh_options);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   if (!a.obj.empty()) write_obj(a.obj, mesh);
