@@ -241,8 +241,12 @@ void add_joints(const TreeModel& model, const HartBakerSurface& surface, Triangl
     const float parent_r = parent.tip_radius_m;
     BlendJoint joint{parent.tip, surface.reach * std::max(parent_r, lateral), surface.fillet * lateral};
     const float half = joint.reach_m * 1.1f;
+    // The node's own limbs first (blended_cones reads at most 16), then any other limb in reach.
     nearby.clear();
+    nearby.push_back(parent);
+    for (const int32_t c : children[p]) nearby.push_back(cones[static_cast<size_t>(c)].cone);
     for (size_t s = 0; s < count; ++s) {
+      if (s == p || model.stems.parent[s] == static_cast<int32_t>(p)) continue;
       const StemCone& c = cones[s];
       if (c.hi.x < joint.centre.x - half || c.lo.x > joint.centre.x + half || c.hi.y < joint.centre.y - half ||
           c.lo.y > joint.centre.y + half || c.hi.z < joint.centre.z - half || c.lo.z > joint.centre.z + half)

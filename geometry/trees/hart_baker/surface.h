@@ -27,10 +27,12 @@ struct BlendJoint {
   float fillet_m;  // the blend adds at most this much material to the union of the cones
 };
 
-// Eq. 26–30: the blend of the two cones nearest x, d − r with d the distance from x to the line
-// segment joining the nearest axis points x1 and x2 and r = (d2 r1 + d1 r2)/(d1 + d2); negative
-// inside. Bounded (docs/hart_baker.md "Readings"): never outside the union of the cones, never
-// more than the joint's fillet·falloff inside it, and equal to the union beyond `reach_m`.
+// Eq. 26–30: the blend of two cones, d − r with d the distance from x to the line segment joining
+// their nearest axis points x1 and x2 and r = (d2 r1 + d1 r2)/(d1 + d2); negative inside. Taken
+// over every pair of the cones (their minimum, so the field stays continuous where the nearest
+// pair changes) and bounded (docs/hart_baker.md "Readings"): never outside the union of the cones,
+// never more than the joint's fillet·(1 − |x − centre|/reach)² inside it, and equal to the union
+// beyond `reach_m`. At most 16 cones are read.
 float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const BlendJoint& joint);
 
 // The closed surface of blended_cones over the axis-aligned cube of half-size `half_m` about the
