@@ -7,6 +7,7 @@
 #include "core/progress.h"
 #include "geometry/mesh_io.h"
 #include "geometry/trees/hart_baker/rings.h"
+#include "geometry/trees/hart_baker/surface.h"
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/hart_baker_growth.h"
 #include "scenes/species.h"
@@ -87,14 +88,14 @@ int run_grow(const GrowArgs& a) {
       shed += report.shed;
       if (!a.frames.empty())
         write_obj(std::filesystem::path(a.frames) / fmt::format("year_{:03d}.obj", t.year),
-                  make_tree_mesh(hart_baker_tree_model(t, params)));
+                  make_hart_baker_mesh(hart_baker_tree_model(t, params), params));
       progress.add(1);
     });
     progress.finish();
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  if (!a.obj.empty()) write_obj(a.obj, make_tree_mesh(hart_baker_tree_model(tree, params)));
+  if (!a.obj.empty()) write_obj(a.obj, make_hart_baker_mesh(hart_baker_tree_model(tree, params), params));
   if (!a.save.empty()) {
     // The state names its species relative to where it is saved, when it can.
     const std::filesystem::path save(a.save);

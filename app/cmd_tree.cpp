@@ -85,7 +85,7 @@ int run_tree(const TreeArgs& a) {
   }
   TreeMeshOptions mesh_options;
   mesh_options.quality = options.quality;
-  const TreeMesh mesh = make_tree_mesh(model, mesh_options);
+  const TreeMesh mesh = mesh_species_model(species, model, mesh_options);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   if (!a.obj.empty()) write_obj(a.obj, mesh);

@@ -315,7 +315,7 @@ class SceneParser {
           mesh_options.quality = options.quality;
           mesh_options.split_dead_stems = true;
           mesh_options.leaves = with_leaves;
-          mesh = make_tree_mesh(model, mesh_options);
+          mesh = mesh_species_model(species, model, mesh_options);
         } catch (const Error& e) {
           t->fail(file.string() + ": " + e.what());
         }

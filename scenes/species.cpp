@@ -3,6 +3,7 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/registry.h"
+#include "geometry/trees/hart_baker/surface.h"
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/hart_baker_growth.h"
 #include "scenes/species/hart_baker_state_file.h"
@@ -158,11 +159,11 @@ Species parse_hart_baker_tree(const std::string& text, const std::filesystem::pa
 }
 
 constexpr SpeciesFormat kSpeciesFormats[] = {
-    {".toml", parse_toml},        // Sylva TOML, any registered model
-    {".xml", parse_arbaro_xml},   // Arbaro XML (Weber-Penn)
-    {".lsys", parse_lsys},        // L-systems (docs/lsystems.md)
-    {".grammar", parse_grammar},  // the aspen grammar (docs/lsystems.md)
-    {".tmpl", parse_treemaker},   // TREE-MAKER templates (docs/treemaker.md)
+    {".toml", parse_toml},               // Sylva TOML, any registered model
+    {".xml", parse_arbaro_xml},          // Arbaro XML (Weber-Penn)
+    {".lsys", parse_lsys},               // L-systems (docs/lsystems.md)
+    {".grammar", parse_grammar},         // the aspen grammar (docs/lsystems.md)
+    {".tmpl", parse_treemaker},          // TREE-MAKER templates (docs/treemaker.md)
     {".hbtree", parse_hart_baker_tree},  // saved Hart-Baker growth states (docs/hart_baker.md)
 };
 
@@ -199,7 +200,8 @@ Species load_species(const std::filesystem::path& file) {
 TreeModel make_species_model(const Species& species, uint64_t seed, const TreeOptions& options) {
   // A Hart-Baker species grows here, where the light-view pass is available (docs/design.md §2).
   if (const HartBakerParams* hb = std::get_if<HartBakerParams>(&species.model); hb && !hb->grown)
-    return hart_baker_tree_model(grow_hart_baker_tree(*hb, seed, options.years > 0 ? options.years : hb->years, {}), *hb);
+    return hart_baker_tree_model(grow_hart_baker_tree(*hb, seed, options.years > 0 ? options.years : hb->years, {}),
+                                 *hb);
   return make_tree(species.model, seed, options);
 }
 
@@ -208,7 +210,13 @@ TreeMesh make_species_mesh(const Species& species, uint64_t seed, const TreeOpti
   mesh_options.quality = options.quality;
   // The aspen grammar's <linear_pt> is an 8-point circle (thesis Ch. 6).
   if (std::holds_alternative<AspenGrammarParams>(species.model)) mesh_options.radial_segments = {8, 8, 8, 8};
-  return make_tree_mesh(make_species_model(species, seed, options), mesh_options);
+  return mesh_species_model(species, make_species_model(species, seed, options), mesh_options);
+}
+
+TreeMesh mesh_species_model(const Species& species, const TreeModel& model, const TreeMeshOptions& options) {
+  if (const HartBakerParams* hb = std::get_if<HartBakerParams>(&species.model))
+    return make_hart_baker_mesh(model, *hb, options);
+  return make_tree_mesh(model, options);
 }
 
 }  // namespace sylva

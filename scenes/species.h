@@ -26,6 +26,7 @@
 // sylva::ParseError "file:line: message". Parameters read but not used become warnings.
 
 #include "geometry/mesh.h"
+#include "geometry/trees/tree_mesher.h"
 #include "geometry/trees/tree_model.h"
 #include "geometry/trees/tree_models.h"
 
@@ -54,6 +55,10 @@ std::vector<std::string> species_file_extensions();
 
 // Generates the tree structure of a species for a seed. Pure.
 TreeModel make_species_model(const Species& species, uint64_t seed, const TreeOptions& options = {});
+
+// Meshes a model of the species: the shared mesher (geometry/trees/tree_mesher.h), except a
+// Hart–Baker tree's blended joints and bark (geometry/trees/hart_baker/surface.h).
+TreeMesh mesh_species_model(const Species& species, const TreeModel& model, const TreeMeshOptions& options);
 
 // Generates and meshes a tree of the species. Pure: the same inputs give a bit-identical mesh.
 TreeMesh make_species_mesh(const Species& species, uint64_t seed, const TreeOptions& options = {});

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "geometry/trees/hart_baker/rings.h"
+#include "geometry/trees/hart_baker/surface.h"
 #include "scenes/hart_baker_growth.h"
 #include "scenes/scene_file.h"
 #include "scenes/species.h"
@@ -105,6 +106,35 @@ TEST_F(HartBakerFiles, SpeciesAndStateFilesAreSceneSpecies) {
     FAIL() << "a misspelt key must be rejected";
   } catch (const ParseError& e) {
     EXPECT_EQ(e.line(), 3);
+  }
+}
+
+TEST_F(HartBakerFiles, SurfaceAndBarkKeysReachTheSceneMesh) {
+  // The species' [bark] kind and [surface] blend choose what mesh_species_model draws; a bad kind is
+  // reported at its line.
+  const std::string head = "model = \"hart-baker\"\nyears = 6\n[light]\nresolution = 64\n";
+  { std::ofstream(dir_ / "plain.toml") << head << "[surface]\nblend = false\n"; }
+  {
+    std::ofstream(dir_ / "spotted.toml")
+        << head << "[surface]\njoint_min_radius_m = 0.0\n[bark]\nkind = \"spotted\"\nmin_radius_m = 0.0\n";
+  }
+  const Species plain = load_species(dir_ / "plain.toml");
+  const Species spotted = load_species(dir_ / "spotted.toml");
+  const TreeModel model = make_species_model(plain, 2);
+  TreeMeshOptions options;
+  options.leaves = false;
+  const TreeMesh tubes = mesh_species_model(plain, model, options);
+  EXPECT_EQ(tubes.stems.triangles, make_tree_mesh(model, options).stems.triangles);
+  const TreeMesh dressed = mesh_species_model(spotted, model, options);
+  const TriangleMesh bark = hart_baker_bark(model, std::get<HartBakerParams>(spotted.model));
+  EXPECT_GT(bark.triangles.size(), 0u);
+  EXPECT_GT(dressed.stems.triangles.size(), tubes.stems.triangles.size() + bark.triangles.size());
+  { std::ofstream(dir_ / "bad_bark.toml") << head << "[bark]\nspacing_m = 0.02\nkind = \"stripy\"\n"; }
+  try {
+    load_species(dir_ / "bad_bark.toml");
+    FAIL() << "an unknown bark kind must be rejected";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 7);
   }
 }
 

@@ -37,6 +37,29 @@ struct HartBakerLight {
   int last_day = 270;
 };
 
+// The drawn surface (§5.2): blended joints where laterals leave their parents.
+struct HartBakerSurface {
+  bool blend = true;                 // polygonise the joints (false: the shared mesher's tubes only)
+  float joint_min_radius_m = 0.01f;  // blend a node whose thickest lateral is at least this thick
+  float reach = 2.5f;                // the blend fades out this many parent radii from the node
+  float fillet = 0.6f;               // the blend adds at most this many lateral radii of wood
+  int joint_cells = 24;              // most marching cells across a joint's cube
+};
+
+// Bark (§5.4) from the particle flow (§5.3).
+enum class BarkKind : uint8_t { Smooth, Spotted, Ribbon };
+struct HartBakerBark {
+  BarkKind kind = BarkKind::Smooth;
+  float spacing_m = 0.03f;     // particle spacing around a limb and step along the flow
+  float min_radius_m = 0.02f;  // features only on limbs at least this thick
+  float size_m = 0.02f;        // spot width / ribbon width
+  float length_m = 0.08f;      // ribbon length (spots: height = size·aspect)
+  float aspect = 0.5f;         // spot height over width (the paper's spots stay within 2:1)
+  float height_m = 0.003f;     // how far a feature's peak stands above the bark
+  float density = 0.7f;        // share of particle positions that carry a feature
+  float twist_deg = 8.0f;      // ribbons' random twist about the bark normal
+};
+
 // A species: the physics constants of §3.4, the growth rates of §4.1 and the small genotype that
 // the paper leaves open (buds, branching and leaves; docs/hart_baker.md "Genotype").
 struct HartBakerParams {
@@ -83,6 +106,8 @@ struct HartBakerParams {
   // How long the tree grows when a scene uses the species (`sylva grow --years` overrides).
   int years = 20;
   HartBakerLight light;
+  HartBakerSurface surface;
+  HartBakerBark bark;
   // A grown state to use as is (a saved state file, or the tree scenes/ grew with the light pass);
   // null for a species file, which make_tree grows from the seedling.
   std::shared_ptr<const struct HartBakerTree> grown;

@@ -74,6 +74,36 @@ HartBakerParams HartBakerParams::create(const Params& params, std::vector<std::s
     if (l.last_day < l.first_day) light->fail("last_day", "last_day must not be before first_day");
     light->check_unused();
   }
+  if (const Params* surface = params.table("surface")) {
+    HartBakerSurface& f = p.surface;
+    f.blend = surface->boolean("blend", f.blend);
+    f.joint_min_radius_m = surface->real("joint_min_radius_m", f.joint_min_radius_m, 0, 10);
+    f.reach = surface->real("reach", f.reach, 1.2, 10);
+    f.fillet = surface->real("fillet", f.fillet, 0, 5);
+    f.joint_cells = static_cast<int>(surface->integer("joint_cells", f.joint_cells, 6, 64));
+    surface->check_unused();
+  }
+  if (const Params* bark = params.table("bark")) {
+    HartBakerBark& b = p.bark;
+    const std::string kind = bark->string("kind", "smooth");
+    if (kind == "smooth")
+      b.kind = BarkKind::Smooth;
+    else if (kind == "spotted")
+      b.kind = BarkKind::Spotted;
+    else if (kind == "ribbon")
+      b.kind = BarkKind::Ribbon;
+    else
+      bark->fail("kind", fmt::format("kind = \"{}\": expected \"smooth\", \"spotted\" or \"ribbon\"", kind));
+    b.spacing_m = bark->real("spacing_m", b.spacing_m, 1e-3, 1);
+    b.min_radius_m = bark->real("min_radius_m", b.min_radius_m, 0, 10);
+    b.size_m = bark->real("size_m", b.size_m, 1e-4, 1);
+    b.length_m = bark->real("length_m", b.length_m, 1e-4, 10);
+    b.aspect = bark->real("aspect", b.aspect, 0.1, 2);
+    b.height_m = bark->real("height_m", b.height_m, 0, 0.1);
+    b.density = bark->real("density", b.density, 0, 1);
+    b.twist_deg = bark->real("twist_deg", b.twist_deg, 0, 90);
+    bark->check_unused();
+  }
   params.check_unused();
   return p;
 }

@@ -1,0 +1,64 @@
+#pragma once
+// The Hart–Baker tree's surface (seed 004 §5.2–5.4): blended cones polygonised where a lateral
+// limb meets its parent, plain tubes elsewhere, and bark made from a flow of particles running
+// from the trunk base to the branch tips. Readings and measured figures: docs/hart_baker.md.
+
+#include "geometry/mesh.h"
+#include "geometry/trees/hart_baker/hart_baker.h"
+#include "geometry/trees/tree_mesher.h"
+
+#include <span>
+#include <vector>
+
+namespace sylva {
+
+// One limb of the skeleton: a truncated cone from `base` (radius R) to `tip` (radius r).
+struct BlendCone {
+  Vec3 base;
+  Vec3 tip;
+  float base_radius_m;
+  float tip_radius_m;
+};
+
+// A joint's blend: where the cones meet, and how far and how thick the blend reaches.
+struct BlendJoint {
+  Vec3 centre;
+  float reach_m;   // the blend fades to the plain cones at this distance from the centre
+  float fillet_m;  // the blend adds at most this much material to the union of the cones
+};
+
+// Eq. 26–30: the blend of two cones, d − r with d the distance from x to the line segment joining
+// their nearest axis points x1 and x2 and r = (d2 r1 + d1 r2)/(d1 + d2); negative inside. Taken
+// over every pair of the cones (their minimum, so the field stays continuous where the nearest
+// pair changes) and bounded (docs/hart_baker.md "Readings"): never outside the union of the cones,
+// never more than the joint's fillet·(1 − |x − centre|/reach)² inside it, and equal to the union
+// beyond `reach_m`. At most 16 cones are read.
+float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const BlendJoint& joint);
+
+// The closed surface of blended_cones over the axis-aligned cube of half-size `half_m` about the
+// joint's centre, `cells` cells across, by marching tetrahedra (6 per cell, split along the same
+// diagonal so neighbouring cells share their faces' triangulation). The grid's outer layer counts
+// as outside, so the surface closes where the limbs leave the cube — those caps lie inside the
+// limbs' tubes. Vertices are moved onto the surface along their grid edge (regula falsi); normals
+// are the field's gradient. Every edge is shared by exactly two triangles.
+TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint& joint, float half_m, int cells);
+
+// A Hart–Baker TreeModel (hart_baker_tree_model) as a TreeMesh: the shared mesher's tubes and
+// leaves, a blended joint (polygonise_joint) wherever a lateral at least `surface.joint_min_radius_m`
+// thick leaves its parent, and the bark relief of `params.bark` (hart_baker_bark) on the tubes.
+TreeMesh make_hart_baker_mesh(const TreeModel& model, const HartBakerParams& params,
+                              const TreeMeshOptions& options = {});
+
+// The particle flow of §5.3 over the tubes: one polyline per particle, from the trunk base
+// towards the tips (points on the surface, metres). Exposed for tests.
+struct BarkFlow {
+  std::vector<std::vector<Vec3>> lines;
+  std::vector<std::vector<int32_t>> stems;  // the stem each point lies on
+};
+BarkFlow hart_baker_bark_flow(const TreeModel& model, const HartBakerParams& params);
+
+// Spotted or ribbon bark (§5.4) as relief triangles placed along the flow lines; empty for
+// smooth bark.
+TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& params);
+
+}  // namespace sylva
