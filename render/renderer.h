@@ -52,7 +52,7 @@ struct MemoryEstimate {
   uint64_t film_bytes = 0, image_bytes = 0, bvh_bytes = 0;
   uint64_t total() const { return film_bytes + image_bytes + bvh_bytes; }
 };
-inline constexpr uint64_t kBvhBytesPerPrimitive = 160;
+inline constexpr uint64_t kBvhBytesPerPrimitive = 180;
 MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& settings);
 
 class Renderer {
