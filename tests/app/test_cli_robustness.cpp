@@ -110,6 +110,7 @@ TEST(CliRobustness, OutputsThatAreInputsOrEachOtherAreRefused) {
       {"render " + q(scene) + " -o " + q(dir / "quad.obj"), "is the input"},
       {"render " + q(scene) + " -o " + q(dir / "x.exr") + " --png " + q(dir / "refl.csv"), "is the input"},
       {"export " + q(scene) + " --obj " + q(scene), "is the input"},
+      {"merge " + q(scene) + " -o " + q(scene), "is the input"},
       {"export " + q(scene) + " --obj " + q(dir / "quad.obj"), "is the input"},
       {"tree " + q(dir / "sp.toml") + " --obj " + q(dir / "sp.toml"), "is the input"},
       {"tree " + q(dir / "sp.toml") + " --obj " + q(dir / "t.obj") + " --ply " + q(dir / "t.obj"), "the same file"},
