@@ -1,10 +1,10 @@
 // `sylva compare`: statistical comparison of a render against a reference (compare/image_compare.h).
 
+#include "app/commands.h"
 #include "compare/compare_report.h"
+#include "compare/image_compare.h"
 #include "core/error.h"
 #include "core/image.h"
-#include "compare/image_compare.h"
-#include "app/commands.h"
 
 #include <fmt/core.h>
 
@@ -106,7 +106,7 @@ CommandRun add_compare_command(CLI::App& parent) {
   cmd->add_option("--test-var", args->test_var, "Test variance image (channels C or var.C)");
   cmd->add_option("--alpha", args->alpha, "Family-wise false-rejection rate of the per-pixel test")
       ->capture_default_str()
-      ->check(CLI::Range(1e-12, 0.5));
+      ->check(kFiniteNumber & CLI::Range(1e-12, 0.5));
   cmd->add_option("--max-reject", args->max_reject,
                   "Largest passing share of rejecting pixel-channels (0.25% or 0.0025)")
       ->capture_default_str();
@@ -119,21 +119,25 @@ CommandRun add_compare_command(CLI::App& parent) {
       cmd->add_option("--fail", args->fail,
                       "Threshold fallback without variance (Cycles/idiff): a pixel fails when any channel "
                       "differs by more than T")
-          ->check(CLI::NonNegativeNumber);
+          ->check(kFiniteNumber & CLI::NonNegativeNumber);
   cmd->add_option("--fail-percent", args->fail_percent, "... and the image fails when more than P% of pixels fail")
       ->capture_default_str()
       ->needs(fail)
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(kFiniteNumber & CLI::Range(0.0, 100.0));
   cmd->add_option("--bias-alpha", args->bias_alpha,
                   "Level of the mean-bias tests over the image and over tiles (0 disables them)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.5));
+      ->check(kFiniteNumber & CLI::Range(0.0, 0.5));
   cmd->add_option("--bias-tile", args->bias_tile, "Tile size of the local mean-bias test (0: whole image only)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1 << 20));
   cmd->add_option("--report", args->report, "Write test/ref/error/pvalue EXRs, PNG previews and index.html here");
-  cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")->capture_default_str();
-  cmd->add_option("--exposure", args->exposure_ev, "Exposure of the report's previews in stops")->capture_default_str();
+  cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")
+      ->check(kFiniteNumber & CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  cmd->add_option("--exposure", args->exposure_ev, "Exposure of the report's previews in stops")
+      ->check(kFiniteNumber & CLI::Range(-64.0, 64.0))
+      ->capture_default_str();
   cmd->add_option("--view", args->view, "OCIO view of the report's previews (Standard, ACES, Raw)")
       ->capture_default_str();
   return [args] { return run_compare(*args); };

@@ -3,7 +3,9 @@
 // view can be rendered there (bench/compare_embree.sh).
 
 #include "app/commands.h"
+#include "app/render_job.h"
 #include "core/error.h"
+#include "core/output_paths.h"
 #include "geometry/mesh_io.h"
 #include "geometry/solids/solid_mesh.h"
 #include "render/lights/lights.h"
@@ -14,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <tuple>
 
 namespace sylva {
 namespace {
@@ -96,13 +99,11 @@ TriangleMesh flatten_scene(const Scene& scene) {
 
 int run_export(const ExportOptions& opt) {
   if (opt.obj.empty()) throw Error("no output: give --obj OUT.obj");
+  check_outputs({{"--obj", opt.obj}}, {opt.scene});
   const SceneFile file = opt.scene.empty() ? default_scene() : load_scene_file(opt.scene);
+  check_outputs({{"--obj", opt.obj}}, file.inputs);
   int width = file.render.width, height = file.render.height;
-  if (!opt.res.empty()) {
-    char extra = 0;
-    if (std::sscanf(opt.res.c_str(), "%dx%d%c", &width, &height, &extra) != 2 || width <= 0 || height <= 0)
-      throw Error("--res: expected WIDTHxHEIGHT, e.g. 1280x720, not '" + opt.res + "'");
-  }
+  if (!opt.res.empty()) std::tie(width, height) = parse_resolution(opt.res);
   const Scene& scene = file.scene;
   const TriangleMesh world = flatten_scene(scene);
   write_obj(opt.obj, world);

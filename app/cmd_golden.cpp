@@ -1,9 +1,9 @@
 // `sylva golden update|check`: render and review Sylva's golden references (golden/README.md).
 
-#include "compare/compare_report.h"
-#include "core/error.h"
 #include "app/commands.h"
+#include "compare/compare_report.h"
 #include "compare/golden.h"
+#include "core/error.h"
 
 #include <fmt/core.h>
 
@@ -39,8 +39,11 @@ int run_update(const GoldenOptions& opt) {
 }
 
 int run_check(const GoldenOptions& opt) {
+  const std::vector<GoldenCase> cases = selected(opt);
+  // A check that checked nothing must not pass.
+  if (cases.empty()) throw Error("no golden cases in " + (std::filesystem::path(opt.dir) / "scenes").string());
   int failures = 0;
-  for (const GoldenCase& c : selected(opt)) {
+  for (const GoldenCase& c : cases) {
     const GoldenCheck r = check_golden_case(c);
     const bool ok = r.compare.passed && r.determinism_matches;
     failures += !ok;
@@ -56,7 +59,7 @@ int run_check(const GoldenOptions& opt) {
       fmt::print("  report: {}\n", (std::filesystem::path(opt.report) / c.name / "index.html").string());
     }
   }
-  fmt::print("{} passed, {} failed\n", selected(opt).size() - failures, failures);
+  fmt::print("{} passed, {} failed\n", cases.size() - failures, failures);
   return failures ? 1 : 0;
 }
 

@@ -6,6 +6,7 @@
 #include "app/commands.h"
 #include "app/render_job.h"
 #include "core/error.h"
+#include "core/output_paths.h"
 #include "render/chunk.h"
 #include "render/session.h"
 
@@ -35,10 +36,15 @@ std::string list(const std::vector<int>& v) {
 int run_merge(const MergeOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::filesystem::path> files(opt.parts.begin(), opt.parts.end());
+  const std::vector<OutputFile> outputs{{"-o", opt.exr}, {"--png", opt.png}};
+  check_outputs(outputs, files);
   const MergedParts merged = merge_partials(files, opt.partial);
   RenderRequest request = request_from_job(merged.header.job, merged.header.spp);
   request.threads = opt.threads;
   const RenderJob job = prepare_render(request);
+  std::vector<std::filesystem::path> inputs = files;
+  inputs.insert(inputs.end(), job.file.inputs.begin(), job.file.inputs.end());
+  check_outputs(outputs, inputs);
   if (checkpoint_key(job.file.content_hash, job.settings) != merged.header.key)
     throw Error(fmt::format("the scene {} is not the one the parts were rendered from (it changed since)",
                             request.scene.empty() ? "<default scene>" : request.scene));

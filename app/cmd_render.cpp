@@ -4,7 +4,10 @@
 
 #include "app/commands.h"
 #include "app/render_job.h"
+#include "core/color.h"
 #include "core/error.h"
+#include "core/memory.h"
+#include "core/output_paths.h"
 #include "render/chunk.h"
 #include "render/renderer.h"
 #include "render/session.h"
@@ -32,7 +35,31 @@ struct RenderOptions {
   std::string split = "samples";
   std::string frames;
   double fps = 24.0;
+  bool no_memory_check = false;
 };
+
+std::filesystem::path checkpoint_of(const std::filesystem::path& exr) { return checkpoint_path_for(exr); }
+
+// Everything that can be checked before the scene's BVH is built and a sample rendered: the outputs
+// (core/output_paths.h) against each other and every input of the scene, the preview's view, and
+// the memory the render needs against what is available (unless --no-memory-check).
+void check_before_rendering(const RenderOptions& opt, const RenderJob& job, const std::filesystem::path& exr,
+                            const std::filesystem::path& png, bool chunk) {
+  std::vector<OutputFile> outputs{{"-o", exr}};
+  if (!chunk) outputs.insert(outputs.end(), {{"--png", png}, {"checkpoint", checkpoint_of(exr)}});
+  check_outputs(outputs, job.file.inputs);
+  if (!png.empty()) check_preview_view(opt.preview.view.empty() ? job.file.output.view : opt.preview.view);
+  if (opt.no_memory_check) return;
+  const MemoryEstimate need = estimate_render_memory(job.file.scene, job.settings);
+  const uint64_t available = available_memory_bytes();
+  constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+  if (need.total() > available)
+    throw Error(fmt::format(
+        "the render needs about {:.2f} GiB (film {:.2f}, image {:.2f}, BVH {:.2f}) but only {:.2f} "
+        "GiB are available; lower --res or the number of bands, or try anyway with "
+        "--no-memory-check (docs/limits.md)",
+        need.total() / kGiB, need.film_bytes / kGiB, need.image_bytes / kGiB, need.bvh_bytes / kGiB, available / kGiB));
+}
 
 void print_scene_stats(const EmbreeStats& es) {
   fmt::print(
@@ -52,21 +79,25 @@ void print_summary(const std::string& what, const RenderStats& total, double wal
 int render_image(const RenderOptions& opt, const RenderJob& job, const std::filesystem::path& exr,
                  const std::filesystem::path& png, bool resume) {
   const auto t0 = std::chrono::steady_clock::now();
+  check_before_rendering(opt, job, exr, png, false);
   if (!opt.quiet)
     for (const std::string& w : job.file.warnings) fmt::print(stderr, "{}\n", w);
   const EmbreeScene embree(job.file.scene);
   if (!opt.quiet) print_scene_stats(embree.stats());
   SessionOptions session_options;
-  session_options.checkpoint = exr.string() + ".checkpoint";
+  session_options.checkpoint = checkpoint_of(exr);
   session_options.key = checkpoint_key(job.file.content_hash, job.settings);
   session_options.resume = resume;
   session_options.checkpoint_minutes = opt.checkpoint_minutes;
   session_options.interrupt = &InterruptHandlers::flag();
+  session_options.warn = [](const std::string& message) { fmt::print(stderr, "\n{}\n", message); };
   RenderSession session(job.file.scene, embree, job.settings, session_options);
   if (resume && !opt.quiet)
     fmt::print(stderr, "resuming from {} ({} samples)\n", session_options.checkpoint.string(),
                session.resumed_samples());
 
+  // From here on a signal stops the render cleanly: a checkpoint is written.
+  InterruptHandlers::set(InterruptHandlers::OnSignal::set_flag);
   const SessionResult result = session.run();
   if (result.interrupted) {
     fmt::print(stderr,
@@ -74,7 +105,22 @@ int render_image(const RenderOptions& opt, const RenderJob& job, const std::file
                result.film.total_samples(), session_options.checkpoint.string());
     return 130;
   }
-  write_render_outputs(session.renderer(), result.film, job, exr, png, opt.preview);
+  // The finished film is saved first, so an output that cannot be written (or a signal during the
+  // write) loses no samples: `--resume` then only writes the outputs.
+  session.save_checkpoint(result.film);
+  try {
+    write_render_outputs(session.renderer(), result.film, job, exr, png, opt.preview);
+  } catch (const Error& e) {
+    throw Error(
+        fmt::format("{}\nthe rendered samples are kept in {}: fix the output and run the same command with "
+                    "--resume to write it",
+                    e.what(), session_options.checkpoint.string()));
+  }
+  if (InterruptHandlers::flag()) {
+    fmt::print(stderr, "\ninterrupted while writing the outputs: {} kept; run the same command with --resume\n",
+               session_options.checkpoint.string());
+    return 130;
+  }
   session.remove_checkpoint();
   if (!opt.quiet)
     print_summary(exr.string() + (png.empty() ? "" : " and " + png.string()), result.stats,
@@ -91,9 +137,11 @@ int render_chunk(const RenderOptions& opt, RenderJob job, const std::filesystem:
   if (!opt.quiet)
     for (const std::string& w : job.file.warnings) fmt::print(stderr, "{}\n", w);
   const ChunkWork work = chunk_work(spec, job.settings.width, job.settings.height, job.settings.spp);
+  check_before_rendering(opt, job, out, {}, true);
   job.settings.cancel = &InterruptHandlers::flag();
   const EmbreeScene embree(job.file.scene);
   if (!opt.quiet) print_scene_stats(embree.stats());
+  InterruptHandlers::set(InterruptHandlers::OnSignal::set_flag);
   Renderer renderer(job.file.scene, embree, job.settings);
   Film film = renderer.make_film(work.region, work.samples.first);
   const RenderStats stats = renderer.render(film, work.region, work.samples);
@@ -140,7 +188,8 @@ int render_frames(const RenderOptions& opt, const std::filesystem::path& exr, co
     RenderRequest request = opt.request;
     request.time_s = frame / opt.fps;
     if (!opt.quiet) fmt::print(stderr, "frame {} (t = {:.4f} s)\n", frame, *request.time_s);
-    const bool resume = opt.resume && std::filesystem::exists(frame_exr.string() + ".checkpoint");
+    const bool resume = opt.resume && std::filesystem::exists(checkpoint_of(frame_exr));
+    InterruptHandlers::set(InterruptHandlers::OnSignal::exit);
     const int code = render_image(opt, prepare_render(request), frame_exr, frame_png, resume);
     if (code != 0) return code;
   }
@@ -149,10 +198,13 @@ int render_frames(const RenderOptions& opt, const std::filesystem::path& exr, co
 }
 
 int run_render(RenderOptions opt) {
-  // From here on SIGINT/SIGTERM stop the render cleanly (a checkpoint is written).
-  const InterruptHandlers interrupt_handlers;
+  // While the scene loads and its BVH is built, SIGINT/SIGTERM end the process at once (nothing
+  // has been written); once rendering starts they stop it cleanly with a checkpoint.
+  const InterruptHandlers interrupt_handlers(InterruptHandlers::OnSignal::exit);
   opt.request.progress = !opt.quiet;
   if (opt.exposure_set) opt.preview.exposure_ev = opt.exposure;
+  // The outputs named on the command line, against the scene file, before it is even loaded.
+  check_outputs({{"-o", opt.exr}, {"--png", opt.png}}, {opt.request.scene});
   // Frames assemble the scene once per frame (and here only for the scene's output names); the
   // other renders once, here.
   std::optional<RenderJob> job;
@@ -179,17 +231,17 @@ CommandRun add_render_command(CLI::App& parent) {
   cmd->add_option("--spp", req.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--res", req.res, "Resolution WIDTHxHEIGHT");
   cmd->add_option("--threads", req.threads, "Worker threads (0 = all)")->check(CLI::Range(0, 4096));
-  cmd->add_option("--seed", req.seed, "Random seed")->check(CLI::Range(int64_t{0}, INT64_MAX));
+  cmd->add_option("--seed", req.seed, "Random seed")->check(kUint64 & CLI::Range(int64_t{0}, INT64_MAX));
   cmd->add_option("--bands", req.bands, "Comma-separated bands, e.g. rgb,nir,S2A_B8");
   cmd->add_option("--max-depth", req.max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
   cmd->add_option("--quantity", req.quantity, "Band channels as radiance or reflectance (factor)")
       ->check(CLI::IsMember({"radiance", "reflectance"}));
   cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes,
                   "Write a checkpoint this often (0 = only on interrupt)")
-      ->check(CLI::Range(0.0, 1e6));
-  cmd->add_option("--exposure", opt->exposure, "Preview exposure offset in stops")->each([opt](const std::string&) {
-    opt->exposure_set = true;
-  });
+      ->check(kFiniteNumber & CLI::Range(0.0, 1e6));
+  cmd->add_option("--exposure", opt->exposure, "Preview exposure offset in stops")
+      ->check(kFiniteNumber & CLI::Range(-64.0, 64.0))
+      ->each([opt](const std::string&) { opt->exposure_set = true; });
   cmd->add_option("--view", opt->preview.view, "Preview view transform (Standard, ACES, Raw)");
   cmd->add_flag("--resume", opt->resume, "Continue from OUT.exr.checkpoint (left by an interrupted render)");
   cmd->add_option("--chunk", opt->chunk, "Render only chunk i/N (0 <= i < N) to a partial file for sylva merge");
@@ -199,7 +251,9 @@ CommandRun add_render_command(CLI::App& parent) {
                   "Render frames FIRST:LAST of the trees' wind animation, one OUT.NNNN.exr each; existing frames "
                   "are skipped");
   cmd->add_option("--fps", opt->fps, "Frames per second of --frames (wind time = frame / fps)")
-      ->check(CLI::Range(1e-6, 1e6));
+      ->check(kFiniteNumber & CLI::Range(1e-6, 1e6));
+  cmd->add_flag("--no-memory-check", opt->no_memory_check,
+                "Render even when the estimated memory (film, image, BVH) exceeds what is available");
   cmd->add_flag("-q,--quiet", opt->quiet, "No progress bar or summary");
   return [opt] { return run_render(*opt); };
 }

@@ -2,6 +2,7 @@
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/output_paths.h"
 #include "geometry/mesh_io.h"
 #include "geometry/solids/solid_mesh.h"
 #include "geometry/trees/tree_mesher.h"
@@ -70,7 +71,11 @@ int run_solid_tree(const TreeArgs& a, const Species& species, const TreeModel& m
 }
 
 int run_tree(const TreeArgs& a) {
+  const std::vector<OutputFile> outputs{{"--obj", a.obj}, {"--ply", a.ply}};
+  check_outputs(outputs, {a.species});
   const Species species = load_species(a.species);
+  // A TREE-MAKER species in TOML reads its template too.
+  if (const auto* tm = std::get_if<TreeMakerTemplate>(&species.model)) check_outputs(outputs, {a.species, tm->source});
   for (const std::string& w : species.warnings) fmt::print(stderr, "{}\n", w);
   TreeOptions options;
   options.time_s = a.time_s;
@@ -99,12 +104,13 @@ int run_tree(const TreeArgs& a) {
 CommandRun add_tree_command(CLI::App& parent) {
   auto args = std::make_shared<TreeArgs>();
   CLI::App* cmd = parent.add_subcommand("tree", "Generate one tree from a species file (statistics, OBJ/PLY export)");
-  cmd->add_option("species", args->species, "Species file (.toml, Arbaro .xml, .lsys, .grammar, .tmpl)")->required();
-  cmd->add_option("--seed", args->seed, "Tree seed (same seed, same tree)")->capture_default_str();
-  cmd->add_option("--time", args->time_s, "Time in seconds for wind sway")->capture_default_str();
+  cmd->add_option("species", args->species, "Species file (.toml, Arbaro .xml, .lsys, .grammar, .tmpl, .hbtree)")
+      ->required();
+  cmd->add_option("--seed", args->seed, "Tree seed (same seed, same tree)")->check(kUint64)->capture_default_str();
+  cmd->add_option("--time", args->time_s, "Time in seconds for wind sway")->check(kFiniteNumber)->capture_default_str();
   cmd->add_option("--wind", args->wind, "Wind SPEED,GUST (Weber & Penn §4.7)");
   cmd->add_option("--quality", args->quality, "Quality factor (§4.5): leaf count and mesh resolution")
-      ->check(CLI::PositiveNumber)
+      ->check(kFiniteNumber & CLI::Range(0.01, 100.0))
       ->capture_default_str();
   cmd->add_option("--obj", args->obj, "Write the mesh as Wavefront OBJ (half-space crowns: their polygonised surface)");
   cmd->add_option("--ply", args->ply, "Write the mesh as binary PLY");

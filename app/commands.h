@@ -5,11 +5,38 @@
 
 #include <CLI/CLI.hpp>
 
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <functional>
+#include <string>
 
 namespace sylva {
 
 using CommandRun = std::function<int()>;
+
+// For every floating-point option: a finite number (CLI11's range checks let NaN through, and
+// strtod turns "1e999" into infinity).
+inline const CLI::Validator kFiniteNumber(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end != '\0' || !std::isfinite(v)) return "expected a finite number, got '" + text + "'";
+      return {};
+    },
+    "FINITE");
+
+// For 64-bit unsigned options (seeds): decimal digits that fit in 64 bits (no wrap-around).
+inline const CLI::Validator kUint64(
+    [](std::string& text) -> std::string {
+      uint64_t v = 0;
+      const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (text.empty() || ec != std::errc() || ptr != text.data() + text.size())
+        return "expected an integer from 0 to 18446744073709551615, got '" + text + "'";
+      return {};
+    },
+    "UINT64");
 
 CommandRun add_render_command(CLI::App& parent);
 CommandRun add_compare_command(CLI::App& parent);

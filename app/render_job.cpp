@@ -6,9 +6,11 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <tuple>
 
 namespace sylva {
 
@@ -58,6 +60,20 @@ int64_t to_int(const std::string& name, const std::string& value) {
 
 }  // namespace
 
+std::pair<int, int> parse_resolution(const std::string& text) {
+  const size_t x = text.find('x');
+  int w = 0, h = 0;
+  const auto parse = [&](const char* first, const char* last, int& v) {
+    const auto [ptr, ec] = std::from_chars(first, last, v);
+    return ec == std::errc() && ptr == last && first != last && v >= 1 && v <= kMaxImageSide;
+  };
+  if (x == std::string::npos || !parse(text.data(), text.data() + x, w) ||
+      !parse(text.data() + x + 1, text.data() + text.size(), h))
+    throw Error(fmt::format("--res: expected WIDTHxHEIGHT with sides from 1 to {}, e.g. 1280x720, not '{}'",
+                            kMaxImageSide, text));
+  return {w, h};
+}
+
 RenderJob prepare_render(const RenderRequest& request) {
   SceneOptions scene_options;
   scene_options.time_s = request.time_s;
@@ -66,14 +82,7 @@ RenderJob prepare_render(const RenderRequest& request) {
   // The scene file's settings, with the command line's overrides on top.
   RenderSettings& settings = job.settings;
   settings = render_settings(job.file);
-  if (!request.res.empty()) {
-    int w = 0, h = 0;
-    char extra = 0;
-    if (std::sscanf(request.res.c_str(), "%dx%d%c", &w, &h, &extra) != 2 || w <= 0 || h <= 0 || w > 65536 || h > 65536)
-      throw Error("--res: expected WIDTHxHEIGHT, e.g. 1280x720, not '" + request.res + "'");
-    settings.width = w;
-    settings.height = h;
-  }
+  if (!request.res.empty()) std::tie(settings.width, settings.height) = parse_resolution(request.res);
   if (request.spp > 0) settings.spp = request.spp;
   if (request.seed >= 0) settings.seed = static_cast<uint64_t>(request.seed);
   settings.threads = request.threads;

@@ -11,6 +11,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace sylva {
 
@@ -32,6 +33,13 @@ struct RenderJob {
   SceneFile file;
   RenderSettings settings;
 };
+
+// The largest image side --res accepts (docs/limits.md).
+inline constexpr int kMaxImageSide = 65536;
+
+// "WIDTHxHEIGHT" → {width, height}, each 1..kMaxImageSide; anything else (signs, overflow, extra
+// characters) throws sylva::Error naming --res.
+std::pair<int, int> parse_resolution(const std::string& text);
 
 // Loads the scene and applies the overrides. Throws ParseError / sylva::Error.
 RenderJob prepare_render(const RenderRequest& request);

@@ -12,9 +12,13 @@ packages=(
   libopenmpi-dev openmpi-bin  # sylva-mpi (optional at build time; CMake skips it without MPI)
   slurm-wlm munge             # tests/slurm: a single-node cluster started in a temp dir (skipped if absent)
 )
-if [[ "${1:-}" == "--bench" ]]; then
-  packages+=(embree-tools)
-fi
+for option in "$@"; do
+  case $option in
+    --bench) packages+=(embree-tools) ;;                # bench/compare_embree.sh
+    --fuzz) packages+=(clang libclang-rt-14-dev) ;;     # bench/fuzz.sh: libFuzzer, ASan, UBSan
+    *) echo "install-deps: unknown option $option (expected --bench or --fuzz)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for p in "${packages[@]}"; do

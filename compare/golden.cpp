@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
+#include "core/input_file.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
@@ -27,12 +28,10 @@ std::vector<GoldenCase> list_golden_cases(const std::filesystem::path& golden_di
 }
 
 GoldenRecord read_golden_record(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw ParseError(file, 0, "cannot open golden record (run `sylva golden update`)");
-  std::stringstream text;
-  text << in.rdbuf();
+  if (!std::filesystem::exists(file))
+    throw ParseError(file, 0, "cannot open golden record (run `sylva golden update`)");
   TomlReader r(file.string());
-  const toml::table t = r.parse(text.str());
+  const toml::table t = r.parse(read_input_file(file, kMaxSceneFileBytes, "golden record"));
   r.check_keys(t,
                {"reference_spp", "reference_seed", "check_spp", "check_seed", "determinism_spp", "determinism_seed",
                 "determinism_hash", "scene_hash", "version"},

@@ -1,6 +1,7 @@
 #include "core/atomic_file.h"
 
 #include "core/error.h"
+#include "core/output_paths.h"
 
 #include <fmt/core.h>
 
@@ -13,6 +14,7 @@
 #include <system_error>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace sylva {
@@ -25,10 +27,13 @@ std::atomic<uint64_t> g_temporaries{0};
 // The temporary beside a target: created exclusively, removed unless committed.
 class Temporary {
  public:
-  explicit Temporary(const fs::path& target) : target_(target) {
+  explicit Temporary(const fs::path& target) : target_(target), resolved_(resolved_output(target)) {
+    struct stat st {};
+    if (::stat(resolved_.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+      throw Error(target.string() + ": exists and is not a regular file; outputs must be regular files");
     const unsigned long pid = static_cast<unsigned long>(::getpid());
     for (;;) {
-      path_ = target.parent_path() / fmt::format("{}{}-{}.tmp", kAtomicTempPrefix, pid, g_temporaries.fetch_add(1));
+      path_ = resolved_.parent_path() / fmt::format("{}{}-{}.tmp", kAtomicTempPrefix, pid, g_temporaries.fetch_add(1));
       fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
       if (fd_ >= 0) return;
       // A name left by a crashed process with the same pid is skipped; anything else is fatal.
@@ -66,7 +71,7 @@ class Temporary {
     ::close(fd);
     if (rc != 0) fail("cannot flush to disk", err);
     std::error_code ec;
-    fs::rename(path_, target_, ec);
+    fs::rename(path_, resolved_, ec);
     if (ec) throw Error(target_.string() + ": cannot rename the temporary file over it: " + ec.message());
     committed_ = true;
   }
@@ -77,6 +82,7 @@ class Temporary {
 
  private:
   fs::path target_;
+  fs::path resolved_;  // the file replaced: symlinks written through (core/output_paths.h)
   fs::path path_;
   int fd_ = -1;
   bool committed_ = false;

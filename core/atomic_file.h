@@ -10,6 +10,10 @@
 // per process and thread, and short, so any target name the file system accepts still works. They
 // are created exclusively (O_CREAT | O_EXCL), so concurrent writers never share one; when several
 // write the same target at once, the target ends as one writer's complete file.
+//
+// A target that is a symlink is written through (the file it points to is replaced, the link kept);
+// a target that exists and is not a regular file (device, FIFO, directory) is refused with
+// sylva::Error before anything is written (core/output_paths.h).
 
 #include <filesystem>
 #include <functional>

@@ -48,9 +48,7 @@ std::vector<std::string> ocio_views(const std::filesystem::path& config) {
   return views;
 }
 
-void apply_display_transform(float* rgb, size_t pixel_count, std::string_view view,
-                             const std::filesystem::path& config) {
-  const OCIO::ConstConfigRcPtr cfg = load_config(config);
+void check_preview_view(std::string_view view, const std::filesystem::path& config) {
   const std::vector<std::string> views = ocio_views(config);
   bool known = false;
   std::string list;
@@ -59,6 +57,12 @@ void apply_display_transform(float* rgb, size_t pixel_count, std::string_view vi
     list += (list.empty() ? "" : ", ") + v;
   }
   if (!known) throw Error("unknown preview view \"" + std::string(view) + "\" (available: " + list + ")");
+}
+
+void apply_display_transform(float* rgb, size_t pixel_count, std::string_view view,
+                             const std::filesystem::path& config) {
+  const OCIO::ConstConfigRcPtr cfg = load_config(config);
+  check_preview_view(view, config);
   if (pixel_count == 0) return;
   try {
     OCIO::DisplayViewTransformRcPtr transform = OCIO::DisplayViewTransform::Create();

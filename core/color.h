@@ -20,6 +20,9 @@ void validate_ocio_config(const std::filesystem::path& config = {});
 // The views of the preview display, in the config's order (e.g. "Standard", "ACES", "Raw").
 std::vector<std::string> ocio_views(const std::filesystem::path& config = {});
 
+// Throws sylva::Error unless `view` is a view of the preview display (naming the available ones).
+void check_preview_view(std::string_view view, const std::filesystem::path& config = {});
+
 // Applies scene_linear → display "sRGB" / `view` in place to `pixel_count` interleaved RGB floats.
 // The output is display code values, nominally in [0, 1] (not clamped). Throws sylva::Error for an
 // unknown view (naming the available ones).

@@ -3,6 +3,7 @@
 #include "core/atomic_file.h"
 #include "core/color.h"
 #include "core/error.h"
+#include "core/input_file.h"
 
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
@@ -141,6 +142,7 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
 
 Image read_exr(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
+  require_regular_file(path, "image");
   std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
   if (!in) throw Error(path.string() + ": " + oiio_error("cannot read image"));
   const OIIO::ImageSpec& spec = in->spec();

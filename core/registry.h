@@ -20,7 +20,8 @@ struct VariantRegistry<std::variant<Types...>> {
   template <typename... Args>
   static std::optional<std::variant<Types...>> create(std::string_view type, Args&&... args) {
     std::optional<std::variant<Types...>> out;
-    ((type == Types::kType ? (out.emplace(Types::create(args...)), true) : false) || ...);
+    // The first type whose name matches is created; the fold's value only stops the search.
+    static_cast<void>(((type == Types::kType ? (out.emplace(Types::create(args...)), true) : false) || ...));
     return out;
   }
   static std::string names() {

@@ -1,6 +1,7 @@
 #include "core/table.h"
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 #include <algorithm>
 #include <charconv>
@@ -52,8 +53,7 @@ size_t Table::column(const std::string& name) const {
 }
 
 Table read_table(const std::filesystem::path& file, bool has_header, const std::vector<std::string>& text_columns) {
-  std::ifstream in(file);
-  if (!in) throw Error(file.string() + ": cannot open table");
+  std::istringstream in(read_input_file(file, kMaxTableFileBytes, "table"));
   Table t;
   t.file = file;
   std::string line;

@@ -2,6 +2,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "geometry/mesh_io_detail.h"
 
 #include <algorithm>
@@ -52,14 +53,9 @@ using mesh_io_detail::printable;
 class MappedFile {
  public:
   explicit MappedFile(const fs::path& file) {
-    fd_ = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd_ < 0) throw ParseError(file, 0, std::string("cannot open: ") + std::strerror(errno));
-    struct stat st {};
-    if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
-      ::close(fd_);
-      throw ParseError(file, 0, "cannot read: not a regular file");
-    }
-    size_ = static_cast<size_t>(st.st_size);
+    uint64_t size = 0;
+    fd_ = open_input_file(file, kMaxMeshFileBytes, "mesh", size);
+    size_ = static_cast<size_t>(size);
     if (size_ == 0) return;
     void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd_, 0);
     if (p == MAP_FAILED) {

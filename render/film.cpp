@@ -2,10 +2,13 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/hash.h"
+#include "core/input_file.h"
 
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 
@@ -13,26 +16,63 @@ namespace sylva {
 
 namespace {
 // Version 1: the whole image from sample 0 (count, sum, sum_sq). Version 2 adds the window, the
-// first sample and, when the film keeps them, every sample's values.
+// first sample and, when the film keeps them, every sample's values. Version 3 (written since) is
+// version 2 followed by a checksum: the WordHash64 (core/hash.h) of every field after the magic,
+// each field (a value or an array) added as one piece, in file order. Versions 1 and 2 are still
+// read, without a checksum.
 constexpr char kMagic1[8] = {'S', 'Y', 'L', 'V', 'A', 'C', 'K', '1'};
 constexpr char kMagic2[8] = {'S', 'Y', 'L', 'V', 'A', 'C', 'K', '2'};
+constexpr char kMagic3[8] = {'S', 'Y', 'L', 'V', 'A', 'C', 'K', '3'};
 
-template <typename T>
-void write_pod(std::ostream& out, const T& v) {
-  out.write(reinterpret_cast<const char*>(&v), sizeof(T));
-}
-template <typename T>
-void read_pod(std::istream& in, T& v) {
-  in.read(reinterpret_cast<char*>(&v), sizeof(T));
-}
-template <typename T>
-void write_vec(std::ostream& out, const std::vector<T>& v) {
-  out.write(reinterpret_cast<const char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
-}
-template <typename T>
-void read_vec(std::istream& in, std::vector<T>& v) {
-  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(v.size() * sizeof(T)));
-}
+// The most samples a pixel of a valid film can hold (the --spp limit).
+constexpr uint32_t kMaxPixelSamples = 1u << 24;
+
+// Writes fields, hashing each.
+class FieldWriter {
+ public:
+  explicit FieldWriter(std::ostream& out) : out_(out) {}
+  template <typename T>
+  void pod(const T& v) {
+    bytes(&v, sizeof(T));
+  }
+  template <typename T>
+  void vec(const std::vector<T>& v) {
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  void bytes(const void* data, size_t n) {
+    out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
+    hash_.add(data, n);
+  }
+  uint64_t checksum() const { return hash_.value(); }
+
+ private:
+  std::ostream& out_;
+  WordHash64 hash_;
+};
+
+// Reads fields, hashing each.
+class FieldReader {
+ public:
+  explicit FieldReader(std::istream& in) : in_(in) {}
+  template <typename T>
+  void pod(T& v) {
+    bytes(&v, sizeof(T));
+  }
+  template <typename T>
+  void vec(std::vector<T>& v) {
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  void bytes(void* data, size_t n) {
+    in_.read(static_cast<char*>(data), static_cast<std::streamsize>(n));
+    hash_.add(data, n);
+  }
+  uint64_t checksum() const { return hash_.value(); }
+
+ private:
+  std::istream& in_;
+  WordHash64 hash_;
+};
+
 }  // namespace
 
 SampleRange sample_chunk(SampleRange samples, int index, int count) {
@@ -128,19 +168,24 @@ void Film::save(const std::filesystem::path& file, const std::string& key) const
 }
 
 void Film::write(std::ostream& out, const std::string& key) const {
-  out.write(kMagic2, sizeof(kMagic2));
-  write_pod(out, static_cast<uint64_t>(key.size()));
-  out.write(key.data(), static_cast<std::streamsize>(key.size()));
+  out.write(kMagic3, sizeof(kMagic3));
+  FieldWriter w(out);
+  w.pod(static_cast<uint64_t>(key.size()));
+  w.bytes(key.data(), key.size());
   for (const int v : {width_, height_, channels_, window_.x0, window_.y0, window_.x1, window_.y1})
-    write_pod(out, static_cast<int32_t>(v));
-  write_pod(out, first_sample_);
-  write_vec(out, count_);
-  write_vec(out, sum_);
-  write_vec(out, sum_sq_);
-  for (const std::vector<float>& values : samples_) write_vec(out, values);
+    w.pod(static_cast<int32_t>(v));
+  w.pod(first_sample_);
+  w.vec(count_);
+  w.vec(sum_);
+  w.vec(sum_sq_);
+  for (const std::vector<float>& values : samples_) w.vec(values);
+  const uint64_t checksum = w.checksum();
+  out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
 }
 
 Film Film::load(const std::filesystem::path& file, const std::string& key) {
+  if (!std::filesystem::exists(file)) throw Error(file.string() + ": no checkpoint to resume from");
+  require_regular_file(file, "checkpoint");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file.string() + ": no checkpoint to resume from");
   return read(in, key, file.string());
@@ -150,52 +195,83 @@ Film Film::read(std::istream& in, const std::string& key, const std::string& nam
   char magic[sizeof(kMagic2)];
   in.read(magic, sizeof(magic));
   const bool v1 = in && std::memcmp(magic, kMagic1, sizeof(kMagic1)) == 0;
-  if (!in || (!v1 && std::memcmp(magic, kMagic2, sizeof(kMagic2)) != 0)) throw Error(name + ": not a Sylva checkpoint");
+  const bool v3 = in && std::memcmp(magic, kMagic3, sizeof(kMagic3)) == 0;
+  if (!in || (!v1 && !v3 && std::memcmp(magic, kMagic2, sizeof(kMagic2)) != 0))
+    throw Error(name + ": not a Sylva checkpoint");
+  FieldReader r(in);
   uint64_t key_size = 0;
-  read_pod(in, key_size);
+  r.pod(key_size);
   if (!in || key_size > (1u << 20)) throw Error(name + ": corrupt checkpoint header");
   std::string stored(key_size, '\0');
-  in.read(stored.data(), static_cast<std::streamsize>(key_size));
+  r.bytes(stored.data(), key_size);
   if (stored != key)
     throw Error(name + ": checkpoint is of a different render (scene, seed, resolution, bands or depth differ)");
   int32_t w = 0, h = 0, c = 0;
-  read_pod(in, w);
-  read_pod(in, h);
-  read_pod(in, c);
+  r.pod(w);
+  r.pod(h);
+  r.pod(c);
   PixelRegion window = PixelRegion::whole(w, h);
   uint32_t first = 0;
   if (!v1) {
     for (int* v : {&window.x0, &window.y0, &window.x1, &window.y1}) {
       int32_t i = 0;
-      read_pod(in, i);
+      r.pod(i);
       *v = i;
     }
-    read_pod(in, first);
+    r.pod(first);
   }
   if (!in || w <= 0 || h <= 0 || c <= 0 || w > 65536 || h > 65536 || c > 1024 || window.empty() ||
       !PixelRegion::whole(w, h).contains(window))
     throw Error(name + ": corrupt checkpoint header");
+  // The arrays must be in the stream before they are allocated (a corrupt header cannot ask for
+  // gigabytes): count, sum and sum_sq, then the checksum.
+  const auto here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const uint64_t rest = static_cast<uint64_t>(in.tellg() - here);
+  in.seekg(here);
+  const uint64_t checksum_bytes = v3 ? sizeof(uint64_t) : 0;
+  const uint64_t pixels = static_cast<uint64_t>(window.width()) * static_cast<uint64_t>(window.height());
+  const uint64_t arrays = pixels * (sizeof(uint32_t) + 2 * static_cast<uint64_t>(c) * sizeof(double));
+  if (!in || rest < arrays + checksum_bytes) throw Error(name + ": truncated checkpoint");
   Film film(w, h, c, window, first);
-  read_vec(in, film.count_);
-  read_vec(in, film.sum_);
-  read_vec(in, film.sum_sq_);
+  r.vec(film.count_);
+  r.vec(film.sum_);
+  r.vec(film.sum_sq_);
   if (!in) throw Error(name + ": truncated checkpoint");
   if (film.keeps_samples()) {
     // The kept values must be exactly what the counts say the rest of the file holds.
-    const auto here = in.tellg();
+    const auto after_arrays = in.tellg();
     in.seekg(0, std::ios::end);
-    const uint64_t rest = static_cast<uint64_t>(in.tellg() - here);
-    in.seekg(here);
+    const uint64_t left = static_cast<uint64_t>(in.tellg() - after_arrays);
+    in.seekg(after_arrays);
+    if (left < checksum_bytes) throw Error(name + ": truncated checkpoint");
+    const uint64_t kept_bytes = left - checksum_bytes;
     uint64_t expected = 0;
     for (const uint32_t n : film.count_)
       expected += static_cast<uint64_t>(n) * static_cast<uint64_t>(c) * sizeof(float);
-    if (rest != expected) throw Error(name + ": corrupt checkpoint (kept samples do not match the counts)");
+    if (kept_bytes != expected) throw Error(name + ": corrupt checkpoint (kept samples do not match the counts)");
     for (size_t p = 0; p < film.samples_.size(); ++p) {
       film.samples_[p].resize(static_cast<size_t>(film.count_[p]) * static_cast<size_t>(c));
-      read_vec(in, film.samples_[p]);
+      r.vec(film.samples_[p]);
     }
     if (!in) throw Error(name + ": truncated checkpoint");
   }
+  if (v3) {
+    uint64_t stored_checksum = 0;
+    in.read(reinterpret_cast<char*>(&stored_checksum), sizeof(stored_checksum));
+    if (!in || stored_checksum != r.checksum())
+      throw Error(name + ": corrupt checkpoint (checksum mismatch); it cannot be resumed: delete it and render again");
+    if (in.peek() != std::char_traits<char>::eof())
+      throw Error(name + ": corrupt checkpoint (data after the checksum)");
+  }
+  // Fields a valid film cannot hold, in files of any version.
+  for (const uint32_t n : film.count_)
+    if (n > kMaxPixelSamples)
+      throw Error(
+          fmt::format("{}: corrupt checkpoint (a pixel claims {} samples, more than {})", name, n, kMaxPixelSamples));
+  for (size_t i = 0; i < film.sum_.size(); ++i)
+    if (!std::isfinite(film.sum_[i]) || !(film.sum_sq_[i] >= 0.0) || !std::isfinite(film.sum_sq_[i]))
+      throw Error(name + ": corrupt checkpoint (a pixel sum is not a finite number)");
   return film;
 }
 

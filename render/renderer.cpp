@@ -72,6 +72,19 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
 
 Renderer::~Renderer() = default;
 
+MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& settings) {
+  uint64_t channels = 0;
+  for (const Band& b : settings.bands) channels += b.channels.size();
+  const uint64_t pixels = static_cast<uint64_t>(settings.width) * static_cast<uint64_t>(settings.height);
+  uint64_t primitives = 0;
+  for (const Prototype& p : scene.prototypes) primitives += p.triangles.triangles.size() + p.leaves.size();
+  MemoryEstimate m;
+  m.film_bytes = pixels * (2 * channels * 2 * sizeof(double) + sizeof(uint32_t));
+  m.image_bytes = pixels * ((3 * channels + 6) * sizeof(float) + 3 * sizeof(float) + 3);
+  m.bvh_bytes = primitives * kBvhBytesPerPrimitive;
+  return m;
+}
+
 Film Renderer::make_film() const { return make_film(image_region(), 0); }
 
 Film Renderer::make_film(const PixelRegion& window, uint32_t first_sample) const {

@@ -57,6 +57,18 @@ struct RenderStats {
   EmbreeStats embree;
 };
 
+// What a render needs in memory beyond the scene description (docs/limits.md), before anything is
+// allocated: the film (sum and sum of squares as doubles for each radiance and albedo channel, and a
+// sample count per pixel), the output image (floats: mean, variance and albedo per radiance channel,
+// depth, normal, two ids) with its preview, and the BVH (an estimate per unique triangle and leaf
+// quad, measured on the shipped scenes).
+struct MemoryEstimate {
+  uint64_t film_bytes = 0, image_bytes = 0, bvh_bytes = 0;
+  uint64_t total() const { return film_bytes + image_bytes + bvh_bytes; }
+};
+inline constexpr uint64_t kBvhBytesPerPrimitive = 180;
+MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& settings);
+
 class Renderer {
  public:
   // Renders `scene` through `embree`, built from that same scene by the caller and shared with any

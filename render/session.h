@@ -13,19 +13,26 @@
 #include <atomic>
 #include <condition_variable>
 #include <filesystem>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
 
 namespace sylva {
 
-// While one is alive, SIGINT and SIGTERM set a process-wide flag instead of ending the process,
-// and a second signal ends it at once (the default action is restored by the first). Construction
-// clears the flag; destruction restores the default actions. Signal handling is process-wide state:
-// keep at most one alive, owned by the program's entry point (the CLI).
+// While one is alive, SIGINT and SIGTERM are handled in one of two ways (OnSignal):
+//  - set_flag: set a process-wide flag instead of ending the process (a render stops cleanly and
+//    checkpoints), and a second signal ends it at once (the default action is restored by the first);
+//  - exit: end the process at once with status 128 + signal, after a message on stderr. For work
+//    that writes nothing and cannot poll a flag (loading a scene, building the BVH).
+// Construction clears the flag; destruction restores the default actions. Signal handling is
+// process-wide state: keep at most one alive, owned by the program's entry point (the CLI).
 class InterruptHandlers {
  public:
-  InterruptHandlers();
+  enum class OnSignal { set_flag, exit };
+  explicit InterruptHandlers(OnSignal on_signal = OnSignal::set_flag);
+  // Switches how the next signal is handled (e.g. to set_flag once the render starts).
+  static void set(OnSignal on_signal);
   ~InterruptHandlers();
   InterruptHandlers(const InterruptHandlers&) = delete;
   InterruptHandlers& operator=(const InterruptHandlers&) = delete;
@@ -58,6 +65,9 @@ struct SessionOptions {
   bool resume = false;               // start from `checkpoint` (sylva::Error if missing or of another render)
   double checkpoint_minutes = 10.0;  // write a checkpoint this often; 0 = only when interrupted
   const std::atomic<bool>* interrupt = nullptr;  // stop for good once set (e.g. InterruptHandlers::flag())
+  // Told about a periodic checkpoint that could not be written (the render goes on; the message
+  // names the file and the reason). The final checkpoint of an interrupted render throws instead.
+  std::function<void(const std::string&)> warn;
 };
 
 struct SessionResult {
@@ -67,6 +77,11 @@ struct SessionResult {
   int checkpoints = 0;       // checkpoints written
 };
 
+// The checkpoint of a render writing `output`: beside it, "<output name>.checkpoint". A name that
+// would exceed the file system's 255 bytes keeps its first bytes and ends with a hash of the whole
+// name ("<start>-<16 hex digits>.checkpoint"), so every output name accepted has a checkpoint.
+std::filesystem::path checkpoint_path_for(const std::filesystem::path& output);
+
 // What a checkpoint of this render must match: everything that changes the samples (Sylva's
 // version, the scene's content hash, seed, resolution, depth and band names).
 std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& settings);
@@ -75,7 +90,9 @@ class RenderSession {
  public:
   // `scene` and `embree` (built from `scene`) must outlive the session. settings.cancel is replaced
   // by the session's own flag; stop a session through options.interrupt. With options.resume the
-  // checkpoint is loaded here, so a missing or mismatched one fails before any rendering.
+  // checkpoint is loaded here, so a missing or mismatched one fails before any rendering; so does
+  // one that holds more samples per pixel than settings.spp (an image of fewer samples cannot be
+  // made from it: render afresh) or a film of another size.
   RenderSession(const Scene& scene, const EmbreeScene& embree, RenderSettings settings, SessionOptions options);
   RenderSession(const RenderSession&) = delete;
   RenderSession& operator=(const RenderSession&) = delete;
@@ -90,6 +107,10 @@ class RenderSession {
 
   // Removes the checkpoint file (call once the outputs are written).
   void remove_checkpoint() const;
+
+  // Saves `film` (this session's, e.g. SessionResult::film) as the checkpoint: before writing the
+  // outputs, so a failed or interrupted write loses no samples (`--resume` then only writes).
+  void save_checkpoint(const Film& film) const;
 
   // For make_image() and the channel names.
   const Renderer& renderer() const { return renderer_; }

@@ -3,6 +3,7 @@
 #include "core/data_path.h"
 #include "core/error.h"
 #include "core/hash.h"
+#include "core/input_file.h"
 #include "core/prospect.h"
 #include "core/registry.h"
 #include "core/rgb_spectrum.h"
@@ -15,8 +16,10 @@
 #include <fmt/core.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <type_traits>
 #include <variant>
@@ -66,6 +69,8 @@ class SceneParser {
   // Hash of everything the scene reads besides its own text (species files), for checkpoints and
   // golden headers.
   uint64_t dependency_hash() const { return dependency_hash_; }
+  bool is_species_file(const std::filesystem::path& file) const { return species_.count(file.string()) > 0; }
+  const std::map<std::string, Species>& species() const { return species_; }
 
  private:
   void parse_render(const Params& root) {
@@ -77,7 +82,13 @@ class SceneParser {
     rs.spp = static_cast<int>(t->integer("spp", rs.spp, 1, 1 << 24));
     rs.seed = static_cast<uint64_t>(t->integer("seed", static_cast<int64_t>(rs.seed), 0, INT64_MAX));
     rs.integrator.max_depth = static_cast<int>(t->integer("max_depth", rs.integrator.max_depth, 1, 1024));
-    if (t->has("bands")) out_.bands = t->strings("bands");
+    if (t->has("bands")) {
+      out_.bands = t->strings("bands");
+      if (out_.bands.empty()) t->fail("bands", "'bands' needs at least one band, e.g. [\"rgb\", \"nir\"]");
+      for (size_t i = 0; i < out_.bands.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+          if (out_.bands[i] == out_.bands[j]) t->fail("bands", "band '" + out_.bands[i] + "' is listed twice");
+    }
     const std::string quantity = t->string("quantity", quantity_name(rs.quantity));
     if (quantity != "radiance" && quantity != "reflectance")
       t->fail("quantity", "quantity must be \"radiance\" or \"reflectance\"");
@@ -116,6 +127,14 @@ class SceneParser {
       t->fail("type", fmt::format("camera type must be {}, not \"{}\"", registered_names<Projection>(), type));
     c.projection = std::move(*projection);
     t->check_unused();
+    // Single-precision ray arithmetic: beyond this distance from the origin the view frame (and
+    // every hit point) loses its precision; docs/limits.md.
+    for (const char* key : {"position", "target"}) {
+      const Vec3& v = key[0] == 'p' ? c.position : c.target;
+      if (!(glm::max(glm::abs(v.x), glm::max(glm::abs(v.y), glm::abs(v.z))) <= kMaxSceneCoordinate_m))
+        t->fail(key, fmt::format("camera {} must lie within {:g} m of the origin on every axis (docs/limits.md)", key,
+                                 kMaxSceneCoordinate_m));
+    }
     if (glm::length(c.target - c.position) <= 0) t->fail("camera position and target must differ");
     if (glm::length(glm::cross(glm::normalize(c.target - c.position), c.up)) < 1e-4f)
       t->fail("camera up must not be parallel to the view direction");
@@ -468,19 +487,15 @@ class SceneParser {
   const Species& load_species_once(const std::filesystem::path& file) {
     auto sp = species_.find(file.string());
     if (sp == species_.end()) {
-      std::ifstream in(file, std::ios::binary);
-      std::stringstream text;
-      text << in.rdbuf();
-      dependency_hash_ = hash_ids(dependency_hash_, hash_text(text.str()));
-      sp = species_.emplace(file.string(), parse_species(text.str(), file)).first;
+      const std::string text = read_input_file(file, kMaxSpeciesFileBytes, "species file");
+      dependency_hash_ = hash_ids(dependency_hash_, hash_text(text));
+      sp = species_.emplace(file.string(), parse_species(text, file)).first;
       out_.warnings.insert(out_.warnings.end(), sp->second.warnings.begin(), sp->second.warnings.end());
       // A TOML species naming a TREE-MAKER template depends on the template's text too.
       const auto* tm = std::get_if<TreeMakerTemplate>(&sp->second.model);
       if (tm != nullptr && tm->source != file) {
-        std::ifstream tin(tm->source, std::ios::binary);
-        std::stringstream ttext;
-        ttext << tin.rdbuf();
-        dependency_hash_ = hash_ids(dependency_hash_, hash_text(ttext.str()));
+        dependency_hash_ =
+            hash_ids(dependency_hash_, hash_text(read_input_file(tm->source, kMaxSpeciesFileBytes, "template file")));
       }
     }
     return sp->second;
@@ -507,14 +522,21 @@ class SceneParser {
   uint64_t dependency_hash_ = 0;
 };
 
-// Relative file names resolve against the scene's directory, then Sylva's data directory.
-FileResolver file_resolver(const std::filesystem::path& base_dir) {
-  return [base_dir](const std::string& rel) -> std::filesystem::path {
+// Relative file names resolve against the scene's directory, then Sylva's data directory. Every
+// file found is appended to `found` (in order, repeats included), so the scene hash can cover it.
+FileResolver file_resolver(const std::filesystem::path& base_dir,
+                           std::shared_ptr<std::vector<std::filesystem::path>> found) {
+  return [base_dir, found](const std::string& rel) -> std::filesystem::path {
     const std::filesystem::path p(rel);
-    if (p.is_absolute()) return std::filesystem::exists(p) ? p : std::filesystem::path();
-    if (!base_dir.empty() && std::filesystem::exists(base_dir / p)) return base_dir / p;
-    if (std::filesystem::exists(data_dir() / p)) return data_dir() / p;
-    return {};
+    std::filesystem::path out;
+    if (p.is_absolute())
+      out = std::filesystem::exists(p) ? p : std::filesystem::path();
+    else if (!base_dir.empty() && std::filesystem::exists(base_dir / p))
+      out = base_dir / p;
+    else if (std::filesystem::exists(data_dir() / p))
+      out = data_dir() / p;
+    if (!out.empty()) found->push_back(out);
+    return out;
   };
 }
 
@@ -524,22 +546,37 @@ SceneFile parse_scene(const std::string& text, const std::string& name, const st
                       const SceneOptions& options) {
   TomlReader reader(name);
   const toml::table document = reader.parse(text);
-  const Params root = reader.to_params(document, "the scene", file_resolver(base_dir));
+  const auto found = std::make_shared<std::vector<std::filesystem::path>>();
+  const Params root = reader.to_params(document, "the scene", file_resolver(base_dir, found));
   SceneParser parser(root, base_dir, options);
   SceneFile file = parser.parse();
-  uint64_t hash = hash_ids(hash_text(text), parser.dependency_hash());
+  // The species files (and their templates) are chained first, as read; then every other file the
+  // scene read (meshes, spectrum and SRF tables), each once, in the order first named. So editing
+  // any input changes the hash, and a checkpoint or golden record of the old scene is refused.
+  uint64_t dependencies = parser.dependency_hash();
+  std::vector<std::filesystem::path> hashed;
+  for (const std::filesystem::path& f : *found) {
+    if (parser.is_species_file(f) || std::find(hashed.begin(), hashed.end(), f) != hashed.end()) continue;
+    hashed.push_back(f);
+    dependencies = hash_ids(dependencies, mix64(fnv1a64_of_file(f, kMaxMeshFileBytes, "scene input")));
+    file.inputs.push_back(f);
+  }
+  for (const auto& [species_file, species] : parser.species()) {
+    file.inputs.emplace_back(species_file);
+    if (const auto* tm = std::get_if<TreeMakerTemplate>(&species.model); tm != nullptr && tm->source != species_file)
+      file.inputs.push_back(tm->source);
+  }
+  uint64_t hash = hash_ids(hash_text(text), dependencies);
   if (options.time_s) hash = hash_ids(hash, hash_text(fmt::format("time {:a}", *options.time_s)));
   file.content_hash = hex64(hash);
   return file;
 }
 
 SceneFile load_scene_file(const std::filesystem::path& path, const SceneOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ParseError(path, 0, "cannot open scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  SceneFile f = parse_scene(ss.str(), path.string(), path.parent_path().empty() ? "." : path.parent_path(), options);
+  const std::string text = read_input_file(path, kMaxSceneFileBytes, "scene file");
+  SceneFile f = parse_scene(text, path.string(), path.parent_path().empty() ? "." : path.parent_path(), options);
   f.path = path;
+  f.inputs.insert(f.inputs.begin(), path);
   return f;
 }
 

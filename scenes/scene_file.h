@@ -32,10 +32,18 @@ struct SceneFile {
   RenderSettings render;
   std::vector<std::string> bands{"rgb", "nir"};
   OutputSection output;
-  std::vector<Band> custom_bands;     // [[bands]] tables: user SRFs, resolved by name before built-ins
-  std::string content_hash;           // of the file text (and the species files it uses), hex
+  std::vector<Band> custom_bands;  // [[bands]] tables: user SRFs, resolved by name before built-ins
+  // Every file the scene read: the scene file itself (when loaded from one), then meshes, tables,
+  // species files and templates (resolved paths). Outputs may not be any of them.
+  std::vector<std::filesystem::path> inputs;
+  // Of the file text and of every file it read (docs/design.md §8, scene_hash), hex.
+  std::string content_hash;
   std::vector<std::string> warnings;  // "file:line: warning: ..." from species files it reads
 };
+
+// The largest camera coordinate (m, any axis) a scene may use: single-precision rays lose their
+// precision beyond it (docs/limits.md).
+inline constexpr float kMaxSceneCoordinate_m = 1e7f;
 
 // How to assemble a scene beyond what its file says.
 struct SceneOptions {

@@ -2,6 +2,7 @@
 
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/registry.h"
 #include "geometry/trees/hart_baker/surface.h"
 #include "geometry/trees/tree_mesher.h"
@@ -190,11 +191,7 @@ Species parse_species(const std::string& text, const std::filesystem::path& file
 }
 
 Species load_species(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw ParseError(file, 0, "cannot open species file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_species(ss.str(), file);
+  return parse_species(read_input_file(file, kMaxSpeciesFileBytes, "species file"), file);
 }
 
 TreeModel make_species_model(const Species& species, uint64_t seed, const TreeOptions& options) {

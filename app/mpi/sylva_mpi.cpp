@@ -17,6 +17,7 @@
 
 #include "app/render_job.h"
 #include "core/error.h"
+#include "core/output_paths.h"
 #include "render/chunk.h"
 #include "render/session.h"
 
@@ -169,6 +170,8 @@ int coordinator(Renderer& renderer, const Context& ctx, const MpiOptions& opt, i
 
 int run(const MpiOptions& opt, int rank, int ranks) {
   Context ctx{prepare_render(opt.request), opt.split == "samples" ? ChunkSplit::samples : ChunkSplit::tiles, 0, {}, {}};
+  // Every rank checks the outputs against the scene's inputs, so all fail alike (docs/robustness.md).
+  check_outputs({{"-o", opt.exr}, {"--png", opt.png}}, ctx.job.file.inputs);
   const RenderSettings& s = ctx.job.settings;
   // Default: 8 chunks per rank (enough to balance uneven ranks), capped by what the split allows.
   ctx.chunks = opt.chunks > 0 ? opt.chunks : std::min(8 * ranks, ctx.split == ChunkSplit::tiles ? s.height : s.spp);

@@ -1,5 +1,7 @@
 #include "scenes/species/treemaker_file.h"
 
+#include "core/input_file.h"
+
 #include "core/error.h"
 
 #include <fmt/core.h>
@@ -447,11 +449,7 @@ TreeMakerTemplate parse_treemaker_template(const std::string& text, const std::f
 }
 
 TreeMakerTemplate load_treemaker_template(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw ParseError(file, 0, "cannot open template file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_treemaker_template(ss.str(), file);
+  return parse_treemaker_template(read_input_file(file, kMaxSpeciesFileBytes, "template file"), file);
 }
 
 }  // namespace sylva

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -188,6 +190,36 @@ TEST_F(AtomicFile, ConcurrentWritersLeaveOneCompleteFile) {
   EXPECT_EQ(bytes.find_first_not_of(bytes[0]), std::string::npos) << "mixed contents";
   EXPECT_GE(bytes[0], 'A');
   EXPECT_LT(bytes[0], 'A' + kWriters);
+  EXPECT_TRUE(temporaries().empty());
+}
+
+}  // namespace
+}  // namespace sylva
+
+namespace sylva {
+namespace {
+
+// Issue 16: a symlinked target is written through (the link stays, the file it names is replaced);
+// a FIFO or device target is refused, not replaced by a regular file.
+TEST_F(AtomicFile, SymlinkedTargetIsWrittenThrough) {
+  fs::create_directory(dir_ / "real");
+  put(dir_ / "real" / "out.txt", "old");
+  fs::create_symlink(dir_ / "real" / "out.txt", dir_ / "link.txt");
+  write_file_atomic(dir_ / "link.txt", [](std::ostream& out) { out << "new"; });
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.txt"));
+  EXPECT_EQ(read(dir_ / "real" / "out.txt"), "new");
+  EXPECT_TRUE(temporaries().empty());
+  EXPECT_TRUE(test::atomic_temporaries_in(dir_ / "real").empty());
+}
+
+TEST_F(AtomicFile, NonRegularTargetIsRefusedAndKept) {
+  ASSERT_EQ(::mkfifo((dir_ / "fifo").c_str(), 0600), 0);
+  const std::string msg = message_of([&] { write_file_atomic(dir_ / "fifo", [](std::ostream& out) { out << "x"; }); });
+  EXPECT_NE(msg.find("exists and is not a regular file"), std::string::npos) << msg;
+  EXPECT_TRUE(fs::is_fifo(dir_ / "fifo"));
+  fs::create_directory(dir_ / "sub");
+  EXPECT_THROW(write_file_atomic_by_name(dir_ / "sub", [](const fs::path&) {}), Error);
+  EXPECT_TRUE(fs::is_directory(dir_ / "sub"));
   EXPECT_TRUE(temporaries().empty());
 }
 

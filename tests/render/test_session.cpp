@@ -8,8 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include <fmt/core.h>
+
 #include <chrono>
 #include <csignal>
+#include <fstream>
 #include <memory>
 #include <thread>
 
@@ -119,10 +122,10 @@ TEST_F(Session, PeriodicCheckpointsLeaveTheImageUnchanged) {
   again.remove_checkpoint();
 }
 
-TEST(SessionErrors, AnExceptionInARoundPropagates) {
-  // A checkpoint under the right key but of another resolution: the renderer throws inside the
-  // round, while the watcher thread runs. Without joining it on that path the process would end
-  // in std::terminate.
+TEST(SessionErrors, ACheckpointOfAnotherSizeIsRefusedBeforeRendering) {
+  // A checkpoint under the right key but of another resolution (issue 16: a changed width field
+  // ended in std::terminate, thrown inside the round while the watcher thread ran). Refused when
+  // the session is made, with both sizes named; StopWatcher's own test covers the join.
   const Scene scene = small_forest_scene();
   const EmbreeScene embree(scene);
   const auto checkpoint = checkpoint_path("throw");
@@ -132,9 +135,102 @@ TEST(SessionErrors, AnExceptionInARoundPropagates) {
   options.key = "same key";
   options.resume = true;
   options.checkpoint_minutes = 1.0;
-  RenderSession session(scene, embree, test_settings(9, 8, 4, 4), options);
-  EXPECT_THROW(session.run(), Error);
-  session.remove_checkpoint();
+  try {
+    RenderSession session(scene, embree, test_settings(9, 8, 4, 4), options);
+    FAIL() << "a checkpoint of another size was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("(8x8, "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is not this render's (9x8, "), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(checkpoint);
+}
+
+TEST_F(Session, ResumingWithFewerSamplesThanTheCheckpointHoldsIsRefused) {
+  // An image of fewer samples cannot be made from a film that holds more (issue 16: it was accepted
+  // and gave an image that was not the lower-spp render).
+  const auto checkpoint = checkpoint_path("fewer");
+  reference_->save(checkpoint, "fewer");
+  SessionOptions options;
+  options.checkpoint = checkpoint;
+  options.key = "fewer";
+  options.resume = true;
+  RenderSettings fewer = settings_;
+  fewer.spp = settings_.spp / 2;
+  try {
+    RenderSession session(*scene_, *embree_, fewer, options);
+    FAIL() << "resumed with a lower spp";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  fmt::format("holds up to {} samples per pixel, more than --spp {}", settings_.spp, fewer.spp)),
+              std::string::npos)
+        << e.what();
+  }
+  // The same spp, or more, resumes.
+  EXPECT_NO_THROW(RenderSession(*scene_, *embree_, settings_, options));
+  std::filesystem::remove(checkpoint);
+}
+
+TEST_F(Session, CorruptCheckpointsAreRefused) {
+  // Issue 16: sums overwritten or counts set to 0xFFFFFFFF resumed into a wrong image.
+  const auto checkpoint = checkpoint_path("corrupt");
+  const std::string bytes = film_bytes(*reference_);
+  const auto refused = [&](const std::string& corrupted) {
+    std::ofstream(checkpoint, std::ios::binary | std::ios::trunc) << corrupted;
+    try {
+      Film::load(checkpoint, "bytes");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refused(bytes), "accepted");
+  // A count (right after the header) set to 0xFFFFFFFF, a sum overwritten, the checksum changed.
+  const size_t header = 8 + 8 + 5 + 7 * 4 + 4;
+  std::string count = bytes;
+  count.replace(header, 4, "\xff\xff\xff\xff");
+  EXPECT_NE(refused(count).find("corrupt checkpoint"), std::string::npos) << refused(count);
+  std::string sum = bytes;
+  sum[sum.size() / 2] = static_cast<char>(sum[sum.size() / 2] ^ 0x40);
+  EXPECT_NE(refused(sum).find("checksum mismatch"), std::string::npos) << refused(sum);
+  std::string tail = bytes;
+  tail.back() = static_cast<char>(tail.back() ^ 1);
+  EXPECT_NE(refused(tail).find("checksum mismatch"), std::string::npos);
+  EXPECT_NE(refused(bytes.substr(0, bytes.size() - 9)).find("truncated"), std::string::npos);
+  EXPECT_NE(refused(bytes + "x").find("data after the checksum"), std::string::npos);
+  std::filesystem::remove(checkpoint);
+}
+
+TEST_F(Session, AFailingPeriodicCheckpointWarnsAndRenderingGoesOn) {
+  // Issue 16: a periodic checkpoint that could not be written (full disk) aborted the render.
+  SessionOptions options;
+  options.checkpoint = checkpoint_path("nowhere") / "missing-dir" / "c.checkpoint";
+  options.key = "warn";
+  options.checkpoint_minutes = 0.05 / 60.0;
+  std::vector<std::string> warnings;
+  options.warn = [&](const std::string& w) { warnings.push_back(w); };
+  RenderSession session(*scene_, *embree_, settings_, options);
+  const SessionResult result = session.run();
+  EXPECT_FALSE(result.interrupted);
+  EXPECT_EQ(result.checkpoints, 0);
+  ASSERT_FALSE(warnings.empty()) << "the render finished within one checkpoint period; make it longer";
+  EXPECT_NE(warnings[0].find("warning: checkpoint not written"), std::string::npos) << warnings[0];
+  EXPECT_EQ(film_bytes(result.film), film_bytes(*reference_));
+  // The final checkpoint of an interrupted render is the only copy: its failure is an error.
+  std::atomic<bool> interrupt{true};
+  options.interrupt = &interrupt;
+  RenderSession interrupted(*scene_, *embree_, settings_, options);
+  EXPECT_THROW(interrupted.run(), Error);
+}
+
+TEST(CheckpointPath, BesideTheOutputAndShortEnoughForAnyName) {
+  EXPECT_EQ(checkpoint_path_for("/a/out.exr"), std::filesystem::path("/a/out.exr.checkpoint"));
+  const std::string long_a(250, 'a'), long_b = std::string(249, 'a') + "b";
+  const auto a = checkpoint_path_for("/d/" + long_a), b = checkpoint_path_for("/d/" + long_b);
+  EXPECT_EQ(a.filename().string().size(), 255u);
+  EXPECT_EQ(a.parent_path(), std::filesystem::path("/d"));
+  EXPECT_EQ(a.extension(), ".checkpoint");
+  EXPECT_NE(a, b) << "names that differ only past the cut get different checkpoints";
+  EXPECT_EQ(a, checkpoint_path_for("/d/" + long_a));
 }
 
 TEST(StopWatcher, StopsOnInterruptOrPeriodAndJoinsOnExceptions) {

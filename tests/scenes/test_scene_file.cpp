@@ -215,6 +215,11 @@ TEST(SceneFile, EveryMistakeNamesFileAndLine) {
       {"[[bands]]\nname = \"my.band\"\nresponse = 1\n", "scene.toml:2: band name must be"},
       {"meshes = 3\n", "scene.toml:1: 'meshes' must be an array"},
       {"colour = 1\n", "scene.toml:1: unknown key 'colour' in the scene"},
+      // Issue 16: these were reported without file:line, or with a wrong reason.
+      {"[render]\nbands = []\n", "scene.toml:2: 'bands' needs at least one band"},
+      {"[render]\nwidth = 8\nbands = [\"rgb\", \"nir\", \"rgb\"]\n", "scene.toml:3: band 'rgb' is listed twice"},
+      {"[camera]\nposition = [1e30, 0, 0]\n", "scene.toml:2: camera position must lie within 1e+07 m"},
+      {"[camera]\ntarget = [0, -1e30, 0]\n", "scene.toml:2: camera target must lie within 1e+07 m"},
   };
   for (const BadCase& c : cases) {
     const std::string msg = error_of(c.text);

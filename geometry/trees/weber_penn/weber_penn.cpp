@@ -325,6 +325,15 @@ class Builder {
       emit(s.pos, s.section_frame, radius_at(s, z_begin), z_begin * s.length);
     }
 
+    // A probe forms the stem's clones too, which the real pass will append: once they outnumber the
+    // stems still allowed, the tree is too large (without this, splitting clones hang the probe).
+    if (probe) {
+      if (probe_budget_ == 0)
+        throw Error("tree too large: more than " + std::to_string(kMaxStems) +
+                    " stems (lower nBranches, nSegSplits, Levels or the quality factor)");
+      --probe_budget_;
+    }
+
     std::vector<StemState> clones;
     size_t clone_cursor = 0;  // the next of this stem's clones in the plan
     int first_out = -1;
@@ -635,6 +644,7 @@ class Builder {
     StemState t = c;
     for (int iteration = 0; iteration < 64 && length >= kMinPrunedLength; ++iteration) {
       t.length = length;
+      probe_budget_ = kMaxStems - std::min(kMaxStems, m_.stems.size());
       const int out = form(t, true);
       if (out < 0) break;
       const int n = std::max(1, p_.at(c.level).curve_res);
@@ -746,6 +756,7 @@ class Builder {
   TreeModel& m_;
   Lengths lengths_;
   std::vector<float>* pruned_;
+  size_t probe_budget_ = 0;  // stems the running pruning probe may still form (kMaxStems less those made)
   size_t replay_pos_ = 0;
   bool ground_ = true;  // keep every stem and leaf above z = 0
   float scale_tree_ = 1.0f;

@@ -1,0 +1,10 @@
+// libFuzzer target: checkpoint inputs (fuzz/fuzz_inputs.h, checkpoint_input).
+#include "fuzz/fuzz_inputs.h"
+
+#include <cstddef>
+#include <cstdint>
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  sylva::fuzz::checkpoint_input(std::string_view(reinterpret_cast<const char*>(data), size));
+  return 0;
+}

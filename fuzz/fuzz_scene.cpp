@@ -1,0 +1,10 @@
+// libFuzzer target: scene files (fuzz/fuzz_inputs.h, scene_input).
+#include "fuzz/fuzz_inputs.h"
+
+#include <cstddef>
+#include <cstdint>
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  sylva::fuzz::scene_input(std::string_view(reinterpret_cast<const char*>(data), size), SYLVA_SOURCE_DIR);
+  return 0;
+}
