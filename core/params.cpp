@@ -114,6 +114,11 @@ double Params::number(std::string_view name, double fallback, double lo, double 
   return v ? checked_number(name, *v, lo, hi, false) : fallback;
 }
 
+void Params::read_fields(std::span<const RealField> reals, std::span<const IntField> ints) const {
+  for (const RealField& r : reals) *r.value = real(r.name, *r.value, r.lo, r.hi);
+  for (const IntField& i : ints) *i.value = static_cast<int>(integer(i.name, *i.value, i.lo, i.hi));
+}
+
 int64_t Params::integer(std::string_view name, int64_t fallback, int64_t lo, int64_t hi) const {
   const ParamValue* v = get(name);
   if (!v) return fallback;

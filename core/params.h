@@ -17,9 +17,23 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
+
+// One row of a model's parameter schema: a named parameter read into a field of its parameter
+// struct, range-checked (`Params::read_fields`). An absent parameter keeps the field's default.
+struct RealField {
+  std::string_view name;
+  float* value;
+  double lo, hi;
+};
+struct IntField {
+  std::string_view name;
+  int* value;
+  int lo, hi;
+};
 
 namespace sylva {
 
@@ -80,6 +94,8 @@ class Params {
     return static_cast<float>(number(name, fallback, lo, hi));
   }
   int64_t integer(std::string_view name, int64_t fallback, int64_t lo, int64_t hi) const;
+  // Every row of a schema table (see RealField).
+  void read_fields(std::span<const RealField> reals, std::span<const IntField> ints) const;
   bool boolean(std::string_view name, bool fallback) const;
   std::string string(std::string_view name) const;
   std::string string(std::string_view name, const std::string& fallback) const;

@@ -72,6 +72,23 @@ TEST(Params, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(error_of([&] { p.add("x", number(1, 9)); }), "a.toml:9: parameter 'x' given twice (first on line 4)");
 }
 
+TEST(Params, SchemaTablesReadPresentFieldsAndKeepDefaults) {
+  Params p("a.toml", 1, "[species]");
+  p.add("height", number(12.5, 2));
+  p.add("count", integer(4, 3));
+  float height = 1.0f, width = 0.5f;
+  int count = 1, depth = 2;
+  const RealField reals[] = {{"height", &height, 0, 100}, {"width", &width, 0, 10}};
+  const IntField ints[] = {{"count", &count, 0, 10}, {"depth", &depth, 0, 10}};
+  p.read_fields(reals, ints);
+  EXPECT_EQ(height, 12.5f);
+  EXPECT_EQ(width, 0.5f);
+  EXPECT_EQ(count, 4);
+  EXPECT_EQ(depth, 2);
+  const IntField narrow[] = {{"count", &count, 0, 3}};
+  EXPECT_EQ(error_of([&] { p.read_fields({}, narrow); }), "a.toml:3: 'count' must lie in [0, 3], not 4");
+}
+
 TEST(Params, UnknownKeysAreReportedWithWhatWasExpected) {
   Params p("a.toml", 1, "[camera]");
   p.add("vfov", number(40, 2));

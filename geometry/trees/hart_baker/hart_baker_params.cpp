@@ -9,17 +9,7 @@ namespace sylva {
 
 HartBakerParams HartBakerParams::create(const Params& params, std::vector<std::string>&) {
   HartBakerParams p;
-  struct Real {
-    std::string_view name;
-    float* value;
-    double lo, hi;
-  };
-  struct Int {
-    std::string_view name;
-    int* value;
-    int lo, hi;
-  };
-  const Real reals[] = {
+  const RealField reals[] = {
       {"wood_density", &p.wood_density_kg_m3, 10, 2000},
       {"max_height_m", &p.max_height_m, 0.1, 1000},
       {"min_growth", &p.min_growth, 0, 1},
@@ -46,14 +36,13 @@ HartBakerParams HartBakerParams::create(const Params& params, std::vector<std::s
       {"shed_light", &p.shed_light, 0, 1},
       {"reaction_wood", &p.reaction_wood, 0, 1},
   };
-  const Int ints[] = {
+  const IntField ints[] = {
       {"buds_per_node", &p.buds_per_node, 0, 12},
       {"max_order", &p.max_order, 0, 8},
       {"shed_age", &p.shed_age, 1, 1000},
       {"years", &p.years, 0, 500},
   };
-  for (const Real& r : reals) *r.value = params.real(r.name, *r.value, r.lo, r.hi);
-  for (const Int& i : ints) *i.value = static_cast<int>(params.integer(i.name, *i.value, i.lo, i.hi));
+  params.read_fields(reals, ints);
   p.balance = params.boolean("balance", p.balance);
   p.phototropism = params.boolean("phototropism", p.phototropism);
   const std::string wood = params.string("wood", "angiosperm");

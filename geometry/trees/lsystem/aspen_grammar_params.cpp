@@ -8,17 +8,7 @@ namespace sylva {
 
 AspenGrammarParams AspenGrammarParams::create(const Params& params, std::vector<std::string>&) {
   AspenGrammarParams p;
-  struct Real {
-    std::string_view name;
-    float* value;
-    double lo, hi;
-  };
-  struct Int {
-    std::string_view name;
-    int* value;
-    int lo, hi;
-  };
-  const Real reals[] = {
+  const RealField reals[] = {
       {"height", &p.height, 1e-3, 1e6},
       {"diameter", &p.diameter, 1e-4, 1e5},
       {"unit_m", &p.unit_m, 1e-6, 1e3},
@@ -50,15 +40,14 @@ AspenGrammarParams AspenGrammarParams::create(const Params& params, std::vector<
       {"leaf_length_m", &p.leaf_length_m, 0, 10},
       {"leaf_width_m", &p.leaf_width_m, 0, 10},
   };
-  const Int ints[] = {
+  const IntField ints[] = {
       {"generations", &p.generations, 0, 8},
       {"bump_every", &p.bump_every, 0, 1000},
       {"first_trunk_point", &p.first_trunk_point, 1, 10000},
       {"shoot_generation", &p.shoot_generation, 0, 8},
       {"leaves_per_cluster", &p.leaves_per_cluster, 0, 1000},
   };
-  for (const Real& r : reals) *r.value = params.real(r.name, *r.value, r.lo, r.hi);
-  for (const Int& i : ints) *i.value = static_cast<int>(params.integer(i.name, *i.value, i.lo, i.hi));
+  params.read_fields(reals, ints);
   if (params.has("leaf_shape")) {
     const std::string name = params.string("leaf_shape");
     const std::optional<LeafShape> shape = leaf_shape_from_name(name);
