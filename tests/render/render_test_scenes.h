@@ -30,6 +30,19 @@ inline RenderSettings test_settings(int w, int h, int spp, int max_depth = 64) {
   return settings;
 }
 
+// A unit-radius cloud of `count` alpha-cut oval leaves (15 × 10 cm) of material `leaf`.
+inline Prototype leaf_cloud_prototype(uint32_t leaf, int count, uint64_t seed) {
+  Prototype p;
+  LeafCloudParams lc;
+  lc.radii = Vec3(1.0f);
+  lc.count = count;
+  lc.leaf_length_m = 0.15f;
+  lc.leaf_width_m = 0.1f;
+  p.leaves = make_leaf_cloud(lc, seed);
+  p.leaf_material = leaf;
+  return p;
+}
+
 // Ground, sun and sky, and two instances of one alpha-cut leaf cloud (object id 1).
 inline Scene small_forest_scene() {
   Scene s;

@@ -116,15 +116,7 @@ std::pair<double, double> furnace_inside_cloud(int max_depth) {
   s.camera.target = {1, 0, 0};
   const uint32_t m =
       s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.55f), DenseSpectrum::constant(0.45f)));
-  Prototype p;
-  LeafCloudParams lc;
-  lc.radii = Vec3(1.0f);
-  lc.count = 2500;
-  lc.leaf_length_m = 0.15f;
-  lc.leaf_width_m = 0.1f;
-  p.leaves = make_leaf_cloud(lc, 7);
-  p.leaf_material = m;
-  s.instances.push_back({s.add_prototype(p), Mat4(1.0f), 0});
+  s.instances.push_back({s.add_prototype(test::leaf_cloud_prototype(m, 2500, 7)), Mat4(1.0f), 0});
   RenderSettings settings = test::test_settings(16, 16, 32, max_depth);
   settings.bands = {resolve_band("nir")};
   Renderer r(s, settings);

@@ -83,15 +83,8 @@ TEST(Transport, WhiteFurnaceLeafCloud) {
   Scene s = furnace_scene();
   const uint32_t m =
       s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.4f), DenseSpectrum::constant(0.6f)));
-  Prototype p;
-  LeafCloudParams lc;
-  lc.radii = Vec3(1.0f);
-  lc.count = 4000;
-  lc.leaf_length_m = 0.15f;
-  lc.leaf_width_m = 0.1f;
-  p.leaves = make_leaf_cloud(lc, 3);
-  p.leaf_material = m;
-  s.instances.push_back({s.add_prototype(p), glm::translate(Mat4(1.0f), Vec3(0, 0, 0.5f)), 0});
+  s.instances.push_back(
+      {s.add_prototype(test::leaf_cloud_prototype(m, 4000, 3)), glm::translate(Mat4(1.0f), Vec3(0, 0, 0.5f)), 0});
   const Image img = render_image(s, 24, 24, 64);
   expect_channels(img, band_value_of_constant, "leaf furnace");
 }
@@ -109,11 +102,8 @@ TEST(Transport, WhiteFurnaceClosedLambertianObjects) {
   expect_channels(img, band_value_of_constant, "closed furnace");
 }
 
-TEST(Transport, WhiteFurnaceHalfSpaceSolids) {
-  // A Fournier–Grindal crown (fBm-displaced, sphere-traced) and its trunk, albedo 1, instanced and
-  // scaled, under a uniform unit sky: radiance 1 (the user geometry's normals and self-hits agree).
-  Scene s = furnace_scene();
-  const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
+// A small six-plane crown on a trunk, fBm-displaced: the furnace tests' half-space tree.
+FournierGrindalParams furnace_crown() {
   FournierGrindalParams fg;
   fg.normals = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1.2f}, {0, 0, -0.8f}};
   fg.displacement_m = 0.15f;
@@ -121,6 +111,15 @@ TEST(Transport, WhiteFurnaceHalfSpaceSolids) {
   fg.crown_base_m = 0.5f;
   fg.trunk_radius_m = 0.08f;
   fg.trunk_top_radius_m = 0.05f;
+  return fg;
+}
+
+TEST(Transport, WhiteFurnaceHalfSpaceSolids) {
+  // A Fournier–Grindal crown (fBm-displaced, sphere-traced) and its trunk, albedo 1, instanced and
+  // scaled, under a uniform unit sky: radiance 1 (the user geometry's normals and self-hits agree).
+  Scene s = furnace_scene();
+  const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
+  FournierGrindalParams fg = furnace_crown();
   Prototype p;
   p.solids = make_fournier_grindal_tree(fg, 4).solids;
   p.solid_palettes.assign(p.solids.size(), {m});
@@ -137,13 +136,7 @@ TEST(Transport, WhiteFurnaceTurbidCrown) {
   const uint32_t white = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
   const uint32_t leaf =
       s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.45f), DenseSpectrum::constant(0.55f)));
-  FournierGrindalParams fg;
-  fg.normals = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1.2f}, {0, 0, -0.8f}};
-  fg.displacement_m = 0.15f;
-  fg.fbm.wavelength_m = 0.5f;
-  fg.crown_base_m = 0.5f;
-  fg.trunk_radius_m = 0.08f;
-  fg.trunk_top_radius_m = 0.05f;
+  FournierGrindalParams fg = furnace_crown();
   fg.leaf_area_density = 3.0f;
   Prototype p;
   p.solids = make_fournier_grindal_tree(fg, 4).solids;
