@@ -48,6 +48,18 @@ TEST(Band, SummaryOfATriangleAndABox) {
   EXPECT_NEAR(b.equivalent_width_nm, 101.0, 1e-3);
 }
 
+TEST(Band, LandsatBandsAreOneWindowEach) {
+  // Every Landsat 8/9 OLI band is a single pass band: its FWHM stays within the instrument's
+  // widest band (SWIR2, about 190 nm) and its equivalent width agrees with it.
+  for (const char* sensor : {"L8", "L9"})
+    for (const char* b : {"B1", "B2", "B3", "B4", "B5", "B6", "B7", "B9"}) {
+      const std::string name = std::string(sensor) + "_" + b;
+      const ChannelSummary s = summarise_channel(resolve_band(name).weights[0]);
+      EXPECT_LT(s.fwhm_nm, 200.0) << name;
+      EXPECT_LT(s.equivalent_width_nm, 1.3 * s.fwhm_nm + 5.0) << name;
+    }
+}
+
 TEST(Band, SentinelTwoCentresAreWhereEsaStatesThem) {
   // ESA's central wavelengths (S2-SRF v3.0): B4 664.6 nm, B8 832.8 nm, B8A 864.7 nm (±3 nm: ESA's
   // centre is not exactly the response-weighted mean).
