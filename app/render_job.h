@@ -34,9 +34,6 @@ struct RenderJob {
   RenderSettings settings;
 };
 
-// The largest image side --res accepts (docs/limits.md).
-inline constexpr int kMaxImageSide = 65536;
-
 // "WIDTHxHEIGHT" → {width, height}, each 1..kMaxImageSide; anything else (signs, overflow, extra
 // characters) throws sylva::Error naming --res.
 std::pair<int, int> parse_resolution(const std::string& text);

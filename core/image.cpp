@@ -4,16 +4,22 @@
 #include "core/color.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/memory.h"
 
 #include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 
 namespace sylva {
 namespace {
+
+// No codec OpenImageIO reads packs pixels much tighter than deflate's limit of about 1032:1.
+constexpr uint64_t kMaxCompressionRatio = 2048;
 
 OIIO::TypeDesc storage_type(PixelType type) {
   switch (type) {
@@ -30,6 +36,92 @@ OIIO::TypeDesc storage_type(PixelType type) {
 std::string oiio_error(const std::string& what) {
   const std::string detail = OIIO::geterror();
   return detail.empty() ? what : what + ": " + detail;
+}
+
+// The sizes an image header claims, checked before anything is allocated from them: a corrupt or
+// hostile header can claim any window (docs/limits.md).
+struct ImageHeaderSizes {
+  int64_t display_width, display_height;  // the display window (the image read_exr returns)
+  int64_t data_width, data_height;        // the data window (the pixels stored)
+  int64_t channels;
+  uint64_t stored_pixel_bytes;  // bytes of one stored pixel, all channels, before compression
+};
+
+void check_image_header(const std::filesystem::path& path, const ImageHeaderSizes& h) {
+  const auto side_ok = [](int64_t side) { return side >= 0 && side <= kMaxImageSide; };
+  if (!side_ok(h.display_width) || !side_ok(h.display_height) || !side_ok(h.data_width) || !side_ok(h.data_height))
+    throw Error(
+        fmt::format("{}: image of {}x{} pixels (data window {}x{}) is outside the limit of 0 to {} pixels per side",
+                    path.string(), h.display_width, h.display_height, h.data_width, h.data_height, kMaxImageSide));
+  if (h.channels > kMaxImageChannels)
+    throw Error(
+        fmt::format("{}: {} channels is more than the limit of {}", path.string(), h.channels, kMaxImageChannels));
+  const uint64_t data = static_cast<uint64_t>(h.data_width) * static_cast<uint64_t>(h.data_height);
+  const uint64_t file_bytes = std::filesystem::file_size(path);
+  if (data * h.stored_pixel_bytes > kMaxCompressionRatio * file_bytes + (uint64_t{1} << 16))
+    throw Error(fmt::format("{}: header claims {}x{} pixels of {} channels, more than a file of {} bytes can hold",
+                            path.string(), h.data_width, h.data_height, h.channels, file_bytes));
+  const uint64_t display = static_cast<uint64_t>(h.display_width) * static_cast<uint64_t>(h.display_height);
+  const uint64_t bytes = (display * static_cast<uint64_t>(h.channels) + 2 * data) * sizeof(float);
+  const uint64_t available = available_memory_bytes();
+  if (bytes > available)
+    throw Error(fmt::format("{}: reading this {}-channel image needs {:.1f} GiB but only {:.1f} GiB are available",
+                            path.string(), h.channels, static_cast<double>(bytes) / double(uint64_t{1} << 30),
+                            static_cast<double>(available) / double(uint64_t{1} << 30)));
+}
+
+// OpenEXR allocates from its header's windows while opening a file (the line-offset table), before
+// OpenImageIO reports a spec, so the header of an EXR is read and checked first. Walks the
+// attributes of the first part (OpenEXR file layout: magic, version, then name\0 type\0 size value
+// until an empty name) for dataWindow, displayWindow (box2i) and channels (chlist). A header that
+// ends early is left to OpenEXR to report.
+void check_exr_header(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(size_t{1} << 16, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<size_t>(in.gcount()));
+  if (head.size() < 8 || head.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
+  const uint64_t file_bytes = std::filesystem::file_size(path);
+  const auto int32_at = [&](size_t at) {
+    int32_t v = 0;
+    std::memcpy(&v, head.data() + at, sizeof v);
+    return static_cast<int64_t>(v);
+  };
+  const auto box_sides = [&](size_t at) {
+    return std::pair{int32_at(at + 8) - int32_at(at) + 1, int32_at(at + 12) - int32_at(at + 4) + 1};
+  };
+  std::pair<int64_t, int64_t> data{0, 0}, display{0, 0};
+  int64_t channels = 0;
+  uint64_t pixel_bytes = 0;
+  size_t at = 8;
+  while (at < head.size() && head[at] != '\0') {
+    const size_t name_end = head.find('\0', at);
+    const size_t type_end = name_end == std::string::npos ? name_end : head.find('\0', name_end + 1);
+    if (type_end == std::string::npos || type_end + 5 > head.size()) return;
+    const std::string name = head.substr(at, name_end - at);
+    const std::string type = head.substr(name_end + 1, type_end - name_end - 1);
+    const int64_t size = int32_at(type_end + 1);
+    const size_t value = type_end + 5;
+    if (size < 0 || value + static_cast<uint64_t>(size) > file_bytes)
+      throw Error(fmt::format("{}: header attribute '{}' claims {} bytes, more than the file holds", path.string(),
+                              name, size));
+    if (value + static_cast<uint64_t>(size) > head.size()) return;
+    if (type == "box2i" && size == 16 && name == "dataWindow") data = box_sides(value);
+    if (type == "box2i" && size == 16 && name == "displayWindow") display = box_sides(value);
+    if (type == "chlist") {
+      // name\0, pixel type (0 uint, 1 half, 2 float), pLinear, 3 reserved, x and y sampling.
+      for (size_t c = value; c < value + static_cast<size_t>(size) && head[c] != '\0';) {
+        const size_t channel_end = head.find('\0', c);
+        if (channel_end == std::string::npos || channel_end + 17 > value + static_cast<size_t>(size)) break;
+        ++channels;
+        pixel_bytes += int32_at(channel_end + 1) == 1 ? 2 : 4;
+        c = channel_end + 17;
+      }
+    }
+    at = value + static_cast<size_t>(size);
+  }
+  check_image_header(path,
+                     ImageHeaderSizes{display.first, display.second, data.first, data.second, channels, pixel_bytes});
 }
 
 }  // namespace
@@ -143,16 +235,25 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
 Image read_exr(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
   require_regular_file(path, "image");
+  check_exr_header(path);
   std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
   if (!in) throw Error(path.string() + ": " + oiio_error("cannot read image"));
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
     throw Error(path.string() + ": not a 2D image with channels");
 
+  const bool windowed = spec.full_width > 0 && spec.full_height > 0;
+  {
+    uint64_t stored_pixel_bytes = 0;
+    for (int c = 0; c < spec.nchannels; ++c) stored_pixel_bytes += spec.channelformat(c).size();
+    check_image_header(
+        path, ImageHeaderSizes{windowed ? spec.full_width : spec.width, windowed ? spec.full_height : spec.height,
+                               spec.width, spec.height, spec.nchannels, stored_pixel_bytes});
+  }
+
   // The image is the display window; a smaller or offset data window (cropped renders from other
   // tools) is placed inside it, the rest left 0.
   Image image;
-  const bool windowed = spec.full_width > 0 && spec.full_height > 0;
   image.width = windowed ? spec.full_width : spec.width;
   image.height = windowed ? spec.full_height : spec.height;
   const int x0 = windowed ? spec.x - spec.full_x : 0, y0 = windowed ? spec.y - spec.full_y : 0;

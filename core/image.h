@@ -60,12 +60,19 @@ inline constexpr std::array<float, 8> rec709_chromaticities{0.64f, 0.33f, 0.30f,
 // why").
 void write_exr(const std::filesystem::path& path, const Image& image);
 
+// The largest image side Sylva renders or reads (docs/limits.md).
+inline constexpr int kMaxImageSide = 65536;
+// The most channels an image read by read_exr may have.
+inline constexpr int kMaxImageChannels = 1024;
+
 // Reads the first part of an EXR (any file OpenImageIO reads) as its display window (a cropped data
 // window is placed inside it, the rest 0). 32-bit unsigned channels become PixelType::UInt (exact),
 // HALF ones Half, everything else Float (8/16-bit files normalised to [0, 1]). Channel order is the
 // file's as OpenImageIO reports it (OpenEXR stores channels sorted by name; look channels up with
 // find_channel). String header attributes are returned except OpenImageIO's own ("compression",
-// "oiio:*"). Throws sylva::Error("path: why") on missing or corrupt files.
+// "oiio:*"). Throws sylva::Error("path: why") on missing or corrupt files, and before allocating on
+// headers beyond the limits: a side (display or data window) over kMaxImageSide, more than
+// kMaxImageChannels channels, or pixels that would not fit in the memory still available.
 Image read_exr(const std::filesystem::path& path);
 
 struct PreviewOptions {

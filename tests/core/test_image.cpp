@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -237,6 +238,50 @@ TEST_F(ImageFiles, ReadErrorsAreClear) {
   fs::resize_file(cut, fs::file_size(full) / 2);
   const std::string m3 = message(cut);
   EXPECT_EQ(m3.rfind(cut.string() + ": ", 0), 0u) << m3;
+}
+
+// The bytes of an EXR with one header value replaced: `field` is an attribute name, the 4 bytes at
+// `offset` into its value become `value`.
+std::string patched_exr(const fs::path& file, const std::string& field, size_t offset, int32_t value) {
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t name = bytes.find(field + '\0');
+  const size_t type_end = bytes.find('\0', name + field.size() + 1);
+  EXPECT_NE(name, std::string::npos) << field;
+  std::memcpy(bytes.data() + type_end + 1 + offset, &value, sizeof value);
+  return bytes;
+}
+
+// Headers claiming windows, channels or attribute sizes beyond the limits are refused before
+// anything is allocated from them (fuzzing found both: tests/data/fuzz/exr/).
+TEST_F(ImageFiles, HostileHeadersAreRefusedBeforeAllocating) {
+  Image image = make_image(8, 6, {"R", "G", "B"});
+  const fs::path good = dir_ / "good.exr";
+  write_exr(good, image);
+  const auto refusal = [&](const std::string& bytes) {
+    const fs::path file = dir_ / "hostile.exr";
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+      read_exr(file);
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // The value of an attribute starts 4 bytes (its size) after the type name.
+  const std::string huge_display = refusal(patched_exr(good, "displayWindow", 4 + 8, 779247990));
+  EXPECT_NE(huge_display.find("limit of 0 to 65536 pixels per side"), std::string::npos) << huge_display;
+  // A data window within the side limit but far more pixels than a small file can hold.
+  std::string wide = patched_exr(good, "dataWindow", 4 + 8, 60000);
+  const fs::path wide_file = dir_ / "wide.exr";
+  std::ofstream(wide_file, std::ios::binary) << wide;
+  const std::string huge_data = refusal(patched_exr(wide_file, "dataWindow", 4 + 12, 60000));
+  EXPECT_NE(huge_data.find("more than a file of"), std::string::npos) << huge_data;
+  // An attribute claiming more bytes than the file has.
+  const std::string huge_attribute = refusal(patched_exr(good, "pixelAspectRatio", 0, 1970601985));
+  EXPECT_NE(huge_attribute.find("claims 1970601985 bytes"), std::string::npos) << huge_attribute;
+  // The unpatched file still reads.
+  EXPECT_EQ(read_exr(good).width, 8);
 }
 
 }  // namespace
