@@ -56,13 +56,17 @@ int open_input_file(const std::filesystem::path& file, uint64_t max_bytes, const
   return fd;
 }
 
-uint64_t fnv1a64_of_file(const std::filesystem::path& file, uint64_t max_bytes, const std::string& what) {
-  uint64_t size = 0;
-  const int fd = open_input_file(file, max_bytes, what, size);
-  Fnv1a64 hash;
-  std::vector<char> buffer(size_t{1} << 20);
-  for (uint64_t done = 0; done < size;) {
-    const ssize_t n = ::read(fd, buffer.data(), static_cast<size_t>(std::min<uint64_t>(buffer.size(), size - done)));
+namespace {
+
+// Reads the file opened as `fd` (`size` bytes when opened) into `chunk(data, n)` pieces of at most
+// `buffer_bytes`, retrying interrupted reads, then closes it. A file that grows while read is cut at
+// its size when opened; one that shrinks ends early. Returns the bytes read.
+template <typename Chunk>
+uint64_t read_chunks(int fd, uint64_t size, char* buffer, size_t buffer_bytes, const std::filesystem::path& file,
+                     const std::string& what, Chunk&& chunk) {
+  uint64_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::read(fd, buffer, static_cast<size_t>(std::min<uint64_t>(buffer_bytes, size - done)));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       const int err = errno;
@@ -70,10 +74,22 @@ uint64_t fnv1a64_of_file(const std::filesystem::path& file, uint64_t max_bytes, 
       throw ParseError(file, 0, fmt::format("cannot read {}: {}", what, std::strerror(err)));
     }
     if (n == 0) break;
-    hash.add(buffer.data(), static_cast<size_t>(n));
+    chunk(buffer, static_cast<size_t>(n));
     done += static_cast<uint64_t>(n);
   }
   ::close(fd);
+  return done;
+}
+
+}  // namespace
+
+uint64_t fnv1a64_of_file(const std::filesystem::path& file, uint64_t max_bytes, const std::string& what) {
+  uint64_t size = 0;
+  const int fd = open_input_file(file, max_bytes, what, size);
+  Fnv1a64 hash;
+  std::vector<char> buffer(size_t{1} << 20);
+  read_chunks(fd, size, buffer.data(), buffer.size(), file, what,
+              [&](const char* data, size_t n) { hash.add(data, n); });
   return hash.value();
 }
 
@@ -81,20 +97,12 @@ std::string read_input_file(const std::filesystem::path& file, uint64_t max_byte
   uint64_t size = 0;
   const int fd = open_input_file(file, max_bytes, what, size);
   std::string text(static_cast<size_t>(size), '\0');
+  std::string chunk_buffer(size_t{1} << 20, '\0');
   size_t done = 0;
-  // A file that grows while read is cut at its size when opened; one that shrinks ends early.
-  while (done < text.size()) {
-    const ssize_t n = ::read(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) {
-      const int err = errno;
-      ::close(fd);
-      throw ParseError(file, 0, fmt::format("cannot read {}: {}", what, std::strerror(err)));
-    }
-    if (n == 0) break;
-    done += static_cast<size_t>(n);
-  }
-  ::close(fd);
+  read_chunks(fd, size, chunk_buffer.data(), chunk_buffer.size(), file, what, [&](const char* data, size_t n) {
+    std::memcpy(text.data() + done, data, n);
+    done += n;
+  });
   text.resize(done);
   return text;
 }
