@@ -6,8 +6,8 @@
 #include "core/input_file.h"
 
 #include <Imath/half.h>
-#include <fmt/core.h>
 #include <OpenImageIO/imageio.h>
+#include <fmt/core.h>
 
 #include <algorithm>
 #include <cmath>
@@ -167,7 +167,8 @@ Raster read_raster(const std::filesystem::path& path) {
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) throw Error(path.string() + ": not a 2D image");
   if (spec.nchannels != 1)
-    throw Error(fmt::format("{}: a raster needs exactly one channel, this image has {}", path.string(), spec.nchannels));
+    throw Error(
+        fmt::format("{}: a raster needs exactly one channel, this image has {}", path.string(), spec.nchannels));
   Raster r;
   r.width = spec.width;
   r.height = spec.height;

@@ -4,6 +4,7 @@
 #include "core/hash.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -54,19 +55,54 @@ float terrain_height(const HeightField& field, Vec2 xy) {
 float terrain_min_height(const HeightField& field, Vec2 centre, float radius_m) {
   float lowest = terrain_height(field, centre);
   if (!(radius_m > 0.0f)) return lowest;
-  constexpr int kRim = 64;
-  for (int k = 0; k < kRim; ++k) {
-    const float a = kTwoPi * static_cast<float>(k) / kRim;
-    lowest = std::min(lowest, terrain_height(field, centre + radius_m * Vec2(std::cos(a), std::sin(a))));
-  }
+  // A linear function over the convex region (disc ∩ triangle) takes its minimum at an extreme
+  // point of the region: a triangle corner inside the disc, a crossing of a triangle edge with the
+  // rim, or the rim point against the triangle's gradient if that lies in the triangle. Every
+  // candidate is evaluated on the surface (points beyond the grid are clamped to its edge).
+  // Rim points are computed in world coordinates, so they may land a few ulps (of the coordinates,
+  // not of the radius) outside the disc: 0.1 mm of slack keeps them.
+  const auto consider = [&](Vec2 p) {
+    if (glm::length(p - centre) <= radius_m + 1e-4f) lowest = std::min(lowest, terrain_height(field, p));
+  };
   const Vec2 lo = (centre - Vec2(radius_m) - field.min_m) / field.spacing_m;
   const Vec2 hi = (centre + Vec2(radius_m) - field.min_m) / field.spacing_m;
-  for (int j = std::max(0, static_cast<int>(std::ceil(lo.y))); j <= std::min(field.height - 1, static_cast<int>(hi.y));
-       ++j)
-    for (int i = std::max(0, static_cast<int>(std::ceil(lo.x))); i <= std::min(field.width - 1, static_cast<int>(hi.x));
-         ++i) {
-      const Vec2 node = field.min_m + field.spacing_m * Vec2(static_cast<float>(i), static_cast<float>(j));
-      if (glm::length(node - centre) <= radius_m) lowest = std::min(lowest, field.at(i, j));
+  const int i0 = std::clamp(static_cast<int>(std::floor(lo.x)), 0, field.width - 2);
+  const int i1 = std::clamp(static_cast<int>(std::floor(hi.x)), 0, field.width - 2);
+  const int j0 = std::clamp(static_cast<int>(std::floor(lo.y)), 0, field.height - 2);
+  const int j1 = std::clamp(static_cast<int>(std::floor(hi.y)), 0, field.height - 2);
+  const auto node = [&](int i, int j) {
+    return Vec3(field.min_m + field.spacing_m * Vec2(static_cast<float>(i), static_cast<float>(j)), field.at(i, j));
+  };
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const Vec3 n00 = node(i, j), n10 = node(i + 1, j), n11 = node(i + 1, j + 1), n01 = node(i, j + 1);
+      for (const auto& tri : {std::array<Vec3, 3>{n00, n10, n11}, std::array<Vec3, 3>{n00, n11, n01}}) {
+        for (int e = 0; e < 3; ++e) {
+          const Vec2 a(tri[e]), b(tri[(e + 1) % 3]);
+          consider(a);
+          // Edge a + t·(b − a), t in [0, 1], crossing the circle |p − centre| = r.
+          const Vec2 d = b - a, f = a - centre;
+          const float qa = glm::dot(d, d), qb = 2.0f * glm::dot(f, d), qc = glm::dot(f, f) - radius_m * radius_m;
+          const float disc = qb * qb - 4.0f * qa * qc;
+          if (disc < 0.0f) continue;
+          for (const float sign : {-1.0f, 1.0f}) {
+            const float t = (-qb + sign * std::sqrt(disc)) / (2.0f * qa);
+            if (t >= 0.0f && t <= 1.0f) consider(a + t * d);
+          }
+        }
+        const Vec3 normal = glm::cross(tri[1] - tri[0], tri[2] - tri[0]);
+        const Vec2 gradient = -Vec2(normal) / normal.z;
+        const float g = glm::length(gradient);
+        if (g <= 0.0f) continue;
+        const Vec2 p = centre - radius_m * gradient / g;
+        // Inside the triangle (its xy-projection, counter-clockwise)?
+        bool inside = true;
+        for (int e = 0; e < 3; ++e) {
+          const Vec2 a(tri[e]), b(tri[(e + 1) % 3]);
+          inside = inside && (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x) >= 0.0f;
+        }
+        if (inside) consider(p);
+      }
     }
   return lowest;
 }

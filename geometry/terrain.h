@@ -33,10 +33,9 @@ TriangleMesh make_terrain_mesh(const HeightField& field);
 // point, so exact to the rendered surface (up to float rounding). Outside the grid the point is
 // clamped to its edge.
 float terrain_height(const HeightField& field, Vec2 xy);
-// The lowest point of the surface over the disc of `radius_m` about `centre` (a trunk's footprint):
-// the nodes inside the disc and 64 points on its rim (a piecewise-linear surface takes its minimum
-// over a disc at a node inside or on the rim; the rim sampling errs by at most
-// radius·slope·(1 − cos(π/64)) ≈ 0.0012·radius·slope).
+// The lowest point of the surface over the disc of `radius_m` about `centre` (a trunk's footprint),
+// exactly: per triangle, the minimum over its corners in the disc, its edges' crossings with the
+// rim and the rim point against its gradient.
 float terrain_min_height(const HeightField& field, Vec2 centre, float radius_m);
 
 // Resamples a raster of heights (row 0 the NORTH edge, as images are stored; `values[y·width + x]`

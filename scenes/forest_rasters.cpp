@@ -16,8 +16,8 @@ HeightField read_elevation_raster(const std::filesystem::path& file, const Eleva
     throw Error(fmt::format("{}: an elevation raster needs 16-bit unsigned integer or float samples, not {}",
                             file.string(), raster_type_name(r.type)));
   if (r.width < 2 || r.height < 2)
-    throw Error(fmt::format("{}: an elevation raster needs at least 2 x 2 pixels, not {} x {}", file.string(),
-                            r.width, r.height));
+    throw Error(fmt::format("{}: an elevation raster needs at least 2 x 2 pixels, not {} x {}", file.string(), r.width,
+                            r.height));
   std::vector<float> heights(r.values.size());
   for (size_t i = 0; i < heights.size(); ++i) {
     if (!std::isfinite(r.values[i]))
@@ -42,9 +42,10 @@ FeatureMap read_feature_map(const std::filesystem::path& file, Vec2 extent_min, 
   const double map_aspect = static_cast<double>(r.width) / r.height;
   const double terrain_aspect = static_cast<double>(size.x) / size.y;
   if (std::abs(map_aspect / terrain_aspect - 1.0) > 0.01)
-    throw Error(fmt::format("{}: the feature map is {} x {} pixels but the terrain is {:g} x {:g} m; a feature map "
-                            "covers the terrain's extent, so their aspect ratios must match",
-                            file.string(), r.width, r.height, size.x, size.y));
+    throw Error(
+        fmt::format("{}: the feature map is {} x {} pixels but the terrain is {:g} x {:g} m; a feature map "
+                    "covers the terrain's extent, so their aspect ratios must match",
+                    file.string(), r.width, r.height, size.x, size.y));
   FeatureMap map;
   map.width = r.width;
   map.height = r.height;

@@ -10,16 +10,16 @@
 #include "geometry/grass.h"
 #include "geometry/mesh_io.h"
 #include "geometry/placement.h"
-#include "geometry/terrain.h"
 #include "geometry/primitives.h"
+#include "geometry/terrain.h"
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/forest_rasters.h"
 #include "scenes/species.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
-#include <glm/gtc/matrix_transform.hpp>
 #include <tbb/parallel_for.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <fstream>
@@ -51,12 +51,18 @@ class SceneParser {
     using Section = void (SceneParser::*)(const Params&);
     // Sections in the order they are parsed (materials before the meshes and trees that use them).
     static constexpr std::pair<std::string_view, Section> kSections[] = {
-        {"render", &SceneParser::parse_render}, {"bands", &SceneParser::parse_bands},
-        {"camera", &SceneParser::parse_camera}, {"sun", &SceneParser::parse_sun},
-        {"sky", &SceneParser::parse_sky},       {"materials", &SceneParser::parse_materials},
-        {"meshes", &SceneParser::parse_meshes}, {"trees", &SceneParser::parse_trees},
-        {"terrain", &SceneParser::parse_terrain}, {"grass", &SceneParser::parse_grass},
-        {"vegetation", &SceneParser::parse_vegetation}, {"output", &SceneParser::parse_output},
+        {"render", &SceneParser::parse_render},
+        {"bands", &SceneParser::parse_bands},
+        {"camera", &SceneParser::parse_camera},
+        {"sun", &SceneParser::parse_sun},
+        {"sky", &SceneParser::parse_sky},
+        {"materials", &SceneParser::parse_materials},
+        {"meshes", &SceneParser::parse_meshes},
+        {"trees", &SceneParser::parse_trees},
+        {"terrain", &SceneParser::parse_terrain},
+        {"grass", &SceneParser::parse_grass},
+        {"vegetation", &SceneParser::parse_vegetation},
+        {"output", &SceneParser::parse_output},
     };
     for (const std::string& name : root_.names()) {
       bool known = false;
@@ -344,7 +350,8 @@ class SceneParser {
         } catch (const Error& e) {
           t->fail(file.string() + ": " + e.what());
         }
-        it = tree_prototypes_.emplace(key, add_tree_prototypes(*t, t->string("name", species.name), model, mesh, materials))
+        it = tree_prototypes_
+                 .emplace(key, add_tree_prototypes(*t, t->string("name", species.name), model, mesh, materials))
                  .first;
       }
       for (const uint32_t proto : it->second) place(*t, proto);
@@ -524,8 +531,8 @@ class SceneParser {
     const uint32_t material = material_ref(*t, "material");
     const int step = static_cast<int>(t->integer("step", 1, 1, 4096));
     if (t->has("file")) {
-      for (const char* key : {"size", "centre", "resolution", "relief", "feature_size", "octaves", "gain", "noise",
-                              "seed"})
+      for (const char* key :
+           {"size", "centre", "resolution", "relief", "feature_size", "octaves", "gain", "noise", "seed"})
         if (t->has(key)) t->fail(key, fmt::format("'{}' is for a procedural terrain (one without 'file')", key));
       ElevationRaster er;
       er.metres_per_pixel = t->real("metres_per_pixel", 1.0, 1e-3, 1e5);
@@ -559,8 +566,8 @@ class SceneParser {
       pt.seed = static_cast<uint64_t>(t->integer("seed", 1, 0, INT64_MAX));
       if (static_cast<double>(pt.size_m.x / pt.resolution_m) * static_cast<double>(pt.size_m.y / pt.resolution_m) >
           kMaxTerrainNodes)
-        t->fail("resolution", fmt::format("the terrain would have more than {:g} nodes: raise resolution or step",
-                                          kMaxTerrainNodes));
+        t->fail("resolution",
+                fmt::format("the terrain would have more than {:g} nodes: raise resolution or step", kMaxTerrainNodes));
       terrain_ = make_procedural_terrain(pt);
       extent_min_ = pt.centre_m - 0.5f * pt.size_m;
       extent_max_ = pt.centre_m + 0.5f * pt.size_m;
@@ -637,8 +644,8 @@ class SceneParser {
     std::vector<std::vector<uint32_t>> materials;
     uint32_t bits_used = 0;
     for (const Params* e : entries) {
-      e->check_keys({"bit", "species", "name", "seed", "bark", "leaf", "dead_bark", "quality", "density",
-                     "min_spacing", "variants", "scale"});
+      e->check_keys({"bit", "species", "name", "seed", "bark", "leaf", "dead_bark", "quality", "density", "min_spacing",
+                     "variants", "scale"});
       if (!e->has("bit")) e->fail("[[vegetation.species]] needs bit = 0..13 (its feature-map bit)");
       SpeciesPlacement rule;
       rule.bit = static_cast<int>(e->integer("bit", 0, 0, kFeatureTreeBits - 1));
@@ -661,7 +668,8 @@ class SceneParser {
       rule.scale_range = range(*e, "scale", Vec2(1.0f), 1e-3, 1e3);
       const int count = static_cast<int>(e->integer("variants", 1, 1, 1000));
       const uint64_t first_seed = static_cast<uint64_t>(e->integer("seed", 1, 0, INT64_MAX - 1000));
-      for (int k = 0; k < count; ++k) variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}, {}, {}});
+      for (int k = 0; k < count; ++k)
+        variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}, {}, {}});
       rules.push_back(rule);
     }
     // Every variant once, in parallel; results (and the first error, in entry order) do not
@@ -695,7 +703,8 @@ class SceneParser {
     FeatureMap map;
     if (t->has("feature_map")) {
       for (const char* key : {"feature_resolution", "patch_size", "tree_cover", "grass_cover"})
-        if (t->has(key)) t->fail(key, fmt::format("'{}' is for a procedural feature map (one without 'feature_map')", key));
+        if (t->has(key))
+          t->fail(key, fmt::format("'{}' is for a procedural feature map (one without 'feature_map')", key));
       const std::filesystem::path file = t->file_path("feature_map");
       try {
         map = read_feature_map(file, extent_min_, extent_max_);
@@ -708,8 +717,8 @@ class SceneParser {
       for (const uint16_t v : map.bits) present |= v;
       for (int b = 0; b < kFeatureTreeBits; ++b)
         if ((present >> b & 1u) && !(bits_used >> b & 1u))
-          t->fail("feature_map", fmt::format("{}: bit {} is set but no [[vegetation.species]] has bit = {}",
-                                             file.string(), b, b));
+          t->fail("feature_map",
+                  fmt::format("{}: bit {} is set but no [[vegetation.species]] has bit = {}", file.string(), b, b));
       for (const uint16_t v : map.bits)
         if (grass_type(v) > static_cast<int>(grass_.size()))
           t->fail("feature_map", fmt::format("{}: grass type {} is used but only {} [[grass]] type(s) are declared",
@@ -741,8 +750,8 @@ class SceneParser {
     for (const Instance& inst : out_.scene.instances) next_id = std::max(next_id, inst.object_id + 1);
     const int64_t first_id = t->integer("first_object_id", next_id, 1, 1 << 24);
     if (first_id + static_cast<int64_t>(trees.size()) > (int64_t{1} << 24))
-      t->fail("first_object_id", fmt::format("{} trees from object id {} exceed the largest id, 2^24", trees.size(),
-                                             first_id));
+      t->fail("first_object_id",
+              fmt::format("{} trees from object id {} exceed the largest id, 2^24", trees.size(), first_id));
     out_.scene.instances.reserve(out_.scene.instances.size() + trees.size());
     for (size_t i = 0; i < trees.size(); ++i) {
       const PlacedTree& tree = trees[i];
