@@ -93,8 +93,8 @@ TEST(Transport, WhiteFurnaceClosedLambertianObjects) {
   // A closed box and a sphere of albedo 1 (instanced, scaled) under a uniform unit sky: radiance 1.
   Scene s = furnace_scene();
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
-  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}};
-  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0, {}, {}};
+  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}, {}, 0};
+  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0, {}, {}, {}, 0};
   s.instances.push_back({s.add_prototype(box), glm::translate(Mat4(1.0f), Vec3(-0.6f, 0, 0)), 0});
   s.instances.push_back(
       {s.add_prototype(sphere), glm::scale(glm::translate(Mat4(1.0f), Vec3(0.7f, 0, 0.5f)), Vec3(1.3f)), 0});
