@@ -1,0 +1,79 @@
+// Forest scenes from the command line: a bad raster is `scene:line: raster: message`, exit 2, and
+// nothing is written; a small terrain + grass scene renders.
+
+#include "core/image.h"
+#include "tests/support/run_command.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace sylva {
+namespace {
+
+namespace fs = std::filesystem;
+using test::fresh_dir;
+using test::run_sylva;
+
+std::string q(const fs::path& p) {
+  std::string quoted(1, '\'');
+  quoted += p.string();
+  quoted += '\'';
+  return quoted;
+}
+
+// The scene with `terrain_source` as the terrain's first key.
+std::string scene(const std::string& terrain_source) {
+  std::string text = R"([render]
+width = 48
+height = 32
+spp = 2
+[camera]
+position = [0, -6, 1.2]
+target = [0, 0, 0.3]
+[materials.soil]
+reflectance = 0.2
+[materials.grass]
+type = "leaf"
+prospect = { N = 1.5, Cab = 40, Car = 8, Cw = 0.01, Cm = 0.005 }
+[terrain]
+)";
+  text += terrain_source;
+  text += R"(
+material = "soil"
+[[grass]]
+material = "grass"
+density = 300
+[vegetation]
+grass_cover = 1.0
+)";
+  return text;
+}
+
+TEST(CliForest, BadRasterExitsTwoAndWritesNothing) {
+  const fs::path dir = fresh_dir("cli_forest_bad");
+  std::ofstream(dir / "s.toml") << scene("size = [12, 12]\nrelief = 0.5");
+  std::ofstream(dir / "bad.toml") << scene("file = \"dem.png\"\nmetres_per_pixel = 0.5");
+  std::string args = "render " + q(dir / "bad.toml");
+  args += " -o " + q(dir / "out.exr");
+  args += " --png " + q(dir / "out.png");
+  args += " --quiet";
+  const auto r = run_sylva(args, dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("bad.toml:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("dem.png"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.exr"));
+  EXPECT_FALSE(fs::exists(dir / "out.png"));
+
+  const auto ok = run_sylva("render " + q(dir / "s.toml") + " -o " + q(dir / "out.exr") + " --quiet", dir);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const Image img = read_exr(dir / "out.exr");
+  // Every pixel below the horizon sees terrain or grass: none is left black.
+  const int r_channel = img.find_channel("R");
+  ASSERT_GE(r_channel, 0);
+  for (int x = 0; x < img.width; ++x) EXPECT_GT(img.at(x, img.height - 1, r_channel), 0.0f);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sylva
