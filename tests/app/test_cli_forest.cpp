@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 
 namespace sylva {
 namespace {
@@ -77,6 +78,23 @@ TEST(CliForest, BadRasterExitsTwoAndWritesNothing) {
     EXPECT_LT(img.at(x, img.height - 1, z), 10.0f);
     EXPECT_GT(img.at(x, img.height - 1, y), 0.0f);
   }
+  fs::remove_all(dir);
+}
+
+TEST(CliForest, DefaultSceneIsAForest) {
+  // `sylva render` without a scene: the four appendix species placed over procedural terrain, each
+  // tree its own object id (data/examples/default.toml).
+  const fs::path dir = fresh_dir("cli_forest_default");
+  const auto r = run_sylva("render -o " + q(dir / "d.exr") + " --res 64x36 --spp 1 --quiet", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Image img = read_exr(dir / "d.exr");
+  const int id = img.find_channel("id.object");
+  ASSERT_GE(id, 0);
+  std::set<float> trees;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      if (img.at(x, y, id) > 0.0f) trees.insert(img.at(x, y, id));
+  EXPECT_GE(trees.size(), 8u);  // many trees in view, told apart
   fs::remove_all(dir);
 }
 
