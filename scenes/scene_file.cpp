@@ -138,6 +138,10 @@ class SceneParser {
     if (!projection)
       t->fail("type", fmt::format("camera type must be {}, not \"{}\"", registered_names<Projection>(), type));
     c.projection = std::move(*projection);
+    // `above_terrain = true`: position and target z are heights above the [terrain] surface under
+    // them (an eye-height camera on any terrain); applied once the terrain is built.
+    camera_above_terrain_ = t->boolean("above_terrain", false);
+    if (camera_above_terrain_ && !root.has("terrain")) t->fail("above_terrain", "above_terrain needs a [terrain]");
     t->check_unused();
     // Single-precision ray arithmetic: beyond this distance from the origin the view frame (and
     // every hit point) loses its precision; docs/limits.md.
@@ -575,6 +579,11 @@ class SceneParser {
     if (static_cast<double>(terrain_->width) * terrain_->height > kMaxTerrainNodes)
       t->fail("step", fmt::format("the terrain has {} x {} nodes, more than {:g}: raise step", terrain_->width,
                                   terrain_->height, kMaxTerrainNodes));
+    if (camera_above_terrain_) {
+      CameraDesc& c = out_.scene.camera;
+      c.position.z += terrain_height(*terrain_, Vec2(c.position));
+      c.target.z += terrain_height(*terrain_, Vec2(c.target));
+    }
     Prototype p;
     p.name = "terrain";
     p.triangles = make_terrain_mesh(*terrain_);
@@ -796,6 +805,7 @@ class SceneParser {
   // [terrain]: the height field and the extent a feature map covers; [[grass]]: the patch
   // prototype and size of each grass type.
   std::optional<HeightField> terrain_;
+  bool camera_above_terrain_ = false;
   Vec2 extent_min_{0.0f}, extent_max_{0.0f};
   struct GrassType {
     uint32_t prototype = 0;
