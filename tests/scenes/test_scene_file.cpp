@@ -40,7 +40,7 @@ TEST(SceneFile, DefaultSceneParses) {
 }
 
 TEST(SceneFile, ExampleScenesParse) {
-  for (const char* name : {"objects.toml", "aspen_grove.toml", "tree_models.toml"}) {
+  for (const char* name : {"objects.toml", "aspen_grove.toml", "tree_models.toml", "forest_aerial.toml"}) {
     EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/data/examples/" + name)) << name;
   }
 }
