@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <limits>
 #include <set>
 
 namespace sylva {
@@ -102,6 +103,26 @@ object_id = 7
   EXPECT_EQ(g.scene.prototypes[0].triangles.positions.size(), 15u);
   EXPECT_FLOAT_EQ(g.scene.prototypes[0].triangles.positions[0].z, 2.5f);
   EXPECT_FLOAT_EQ(g.scene.prototypes[0].triangles.positions[0].x, -4.0f);  // centred: 18 m wide
+}
+
+TEST_F(ForestScene, CameraAboveTerrainStandsOnTheSurface) {
+  write_terrain(10, 10);  // 20 m square, heights rising to the south-east
+  const SceneFile f = load(terrain_ + "[camera]\nabove_terrain = true\nposition = [-3, 4, 1.7]\ntarget = [5, -2, 1]\n");
+  const TriangleMesh& mesh = f.scene.prototypes[0].triangles;
+  // The terrain mesh's own height under a point, by its triangles' planes (brute force).
+  const auto ground = [&](Vec2 q) {
+    for (const glm::uvec3& t : mesh.triangles) {
+      const Vec3 a = mesh.positions[t.x], b = mesh.positions[t.y], c = mesh.positions[t.z];
+      const float d = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+      const float u = ((q.x - a.x) * (c.y - a.y) - (c.x - a.x) * (q.y - a.y)) / d;
+      const float v = ((b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y)) / d;
+      if (u >= 0 && v >= 0 && u + v <= 1) return a.z + u * (b.z - a.z) + v * (c.z - a.z);
+    }
+    return std::numeric_limits<float>::quiet_NaN();
+  };
+  EXPECT_NEAR(f.scene.camera.position.z, ground(Vec2(-3, 4)) + 1.7f, 1e-4f);
+  EXPECT_NEAR(f.scene.camera.target.z, ground(Vec2(5, -2)) + 1.0f, 1e-4f);
+  EXPECT_NE(error_of(kMaterials + "[camera]\nabove_terrain = true\n").find("needs a [terrain]"), std::string::npos);
 }
 
 TEST_F(ForestScene, FeatureMapPlacesTreesWithTheirOwnIdsOnTheGround) {
