@@ -62,11 +62,11 @@ void check_before_rendering(const RenderOptions& opt, const RenderJob& job, cons
 }
 
 void print_scene_stats(const EmbreeStats& es) {
-  fmt::print(
-      stderr,
-      "scene: {} instances, {} unique triangles + {} leaf quads ({} + {} instanced); BVH {:.1f} MiB in {:.0f} ms\n",
-      es.instances, es.triangles, es.leaf_quads, es.instanced_triangles, es.instanced_leaf_quads,
-      es.bvh_bytes / 1048576.0, es.build_ms);
+  fmt::print(stderr,
+             "scene: {} instances, {} unique triangles + {} leaf quads + {} curves ({} + {} + {} instanced); BVH "
+             "{:.1f} MiB in {:.0f} ms\n",
+             es.instances, es.triangles, es.leaf_quads, es.curves, es.instanced_triangles, es.instanced_leaf_quads,
+             es.instanced_curves, es.bvh_bytes / 1048576.0, es.build_ms);
 }
 
 void print_summary(const std::string& what, const RenderStats& total, double wall) {

@@ -232,6 +232,82 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   });
 }
 
+std::string_view raster_type_name(RasterType type) {
+  switch (type) {
+    case RasterType::UInt8:
+      return "8-bit unsigned integer";
+    case RasterType::UInt16:
+      return "16-bit unsigned integer";
+    case RasterType::UInt32:
+      return "32-bit unsigned integer";
+    case RasterType::Half:
+      return "16-bit float";
+    case RasterType::Float:
+      return "32-bit float";
+    case RasterType::Other:
+      break;
+  }
+  return "an unsupported sample type";
+}
+
+Raster read_raster(const std::filesystem::path& path) {
+  if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
+  require_regular_file(path, "raster");
+  check_exr_header(path);
+  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
+  if (!in) throw Error(path.string() + ": " + oiio_error("cannot read image"));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) throw Error(path.string() + ": not a 2D image");
+  if (spec.nchannels != 1)
+    throw Error(
+        fmt::format("{}: a raster needs exactly one channel, this image has {}", path.string(), spec.nchannels));
+  check_image_header(path, ImageHeaderSizes{spec.width, spec.height, spec.width, spec.height, 1,
+                                            static_cast<uint64_t>(spec.format.size())});
+  Raster r;
+  r.width = spec.width;
+  r.height = spec.height;
+  switch (spec.format.basetype) {
+    case OIIO::TypeDesc::UINT8:
+      r.type = RasterType::UInt8;
+      break;
+    case OIIO::TypeDesc::UINT16:
+      r.type = RasterType::UInt16;
+      break;
+    case OIIO::TypeDesc::UINT32:
+      r.type = RasterType::UInt32;
+      break;
+    case OIIO::TypeDesc::HALF:
+      r.type = RasterType::Half;
+      break;
+    case OIIO::TypeDesc::FLOAT:
+      r.type = RasterType::Float;
+      break;
+    default:
+      r.type = RasterType::Other;
+  }
+  const size_t n = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  r.values.resize(n);
+  bool ok = false;
+  // Integer samples are read in their own type, so no conversion rescales them.
+  const auto read_native = [&](auto zero) {
+    std::vector<decltype(zero)> raw(n);
+    const bool read = in->read_image(0, 0, 0, 1, spec.format, raw.data());
+    for (size_t i = 0; i < n; ++i) r.values[i] = static_cast<float>(raw[i]);
+    return read;
+  };
+  if (r.type == RasterType::UInt8) {
+    ok = read_native(uint8_t{0});
+  } else if (r.type == RasterType::UInt16) {
+    ok = read_native(uint16_t{0});
+  } else if (r.type == RasterType::UInt32) {
+    ok = read_native(uint32_t{0});
+  } else {
+    ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, r.values.data());
+  }
+  if (!ok) throw Error(path.string() + ": cannot read pixels: " + in->geterror());
+  return r;
+}
+
 Image read_exr(const std::filesystem::path& path) {
   if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
   require_regular_file(path, "image");

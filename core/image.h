@@ -75,6 +75,19 @@ inline constexpr int kMaxImageChannels = 1024;
 // kMaxImageChannels channels, or pixels that would not fit in the memory still available.
 Image read_exr(const std::filesystem::path& path);
 
+// A single-channel raster as stored (elevation maps, feature maps): integer samples keep their
+// integer values (a 16-bit PNG's 65535 reads as 65535.0, not 1.0), floats are read as they are.
+enum class RasterType : uint8_t { UInt8, UInt16, UInt32, Half, Float, Other };
+struct Raster {
+  int width = 0, height = 0;
+  RasterType type = RasterType::Other;
+  std::vector<float> values;  // values[y·width + x], top row first
+};
+std::string_view raster_type_name(RasterType type);  // "8-bit unsigned", "16-bit unsigned", ...
+// Reads any image OpenImageIO reads (PNG, TIFF, EXR, ...) that has exactly one channel. Throws
+// sylva::Error("path: why") for missing, unreadable or multi-channel files.
+Raster read_raster(const std::filesystem::path& path);
+
 struct PreviewOptions {
   float exposure_ev = 0.0f;       // scale linear values by 2^exposure_ev before the view transform
   std::string view = "Standard";  // a view of the shipped config's "sRGB" display (color.h)

@@ -75,6 +75,19 @@ void solid_occluded(const RTCOccludedFunctionNArguments* args) {
   }
 }
 
+// Grass ribbons: a ray leaving a blade (offset along the normal by a few ulps) can re-hit the same
+// curved ribbon at t ≈ 0, since Embree's curve intersection is approximate at that scale; hits
+// closer than this are rejected in both the intersection and the occlusion filter. 0.1 mm is far
+// below a blade's width (mm) and above the re-hit distances (µm).
+constexpr float kCurveMinDistance_m = 1e-4f;
+
+void curve_near_filter(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    if (RTCRayN_tfar(args->ray, args->N, i) < kCurveMinDistance_m) args->valid[i] = 0;
+  }
+}
+
 // A new vertex buffer of `g` filled with `points`.
 void set_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
   auto* v = static_cast<float*>(
@@ -115,6 +128,7 @@ struct EmbreeScene::Impl {
   std::vector<RTCScene> prototypes;
   std::vector<unsigned> leaf_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<unsigned> solid_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
+  std::vector<unsigned> curve_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
 
   ~Impl() {
@@ -200,11 +214,36 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
       rtcReleaseGeometry(g);
       stats_.solids += proto.solids.size();
     }
+    unsigned curve_id = RTC_INVALID_GEOMETRY_ID;
+    const CurveSet& cs = proto.curves;
+    if (cs.size() > 0) {
+      if (cs.points.size() != 4 * cs.size() || cs.normals.size() != cs.points.size())
+        throw Error(fmt::format("prototype '{}': curves need 4 control points and 4 normals each", proto.name));
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                            4 * sizeof(float), cs.points.size()));
+      auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), cs.normals.size()));
+      auto* idx = static_cast<unsigned*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), cs.size()));
+      for (size_t i = 0; i < cs.points.size(); ++i) {
+        for (int k = 0; k < 4; ++k) v[4 * i + k] = cs.points[i][k];
+        for (int k = 0; k < 3; ++k) n[3 * i + k] = cs.normals[i][k];
+      }
+      for (size_t i = 0; i < cs.size(); ++i) idx[i] = static_cast<unsigned>(4 * i);
+      rtcSetGeometryIntersectFilterFunction(g, curve_near_filter);
+      rtcSetGeometryOccludedFilterFunction(g, curve_near_filter);
+      rtcCommitGeometry(g);
+      curve_id = rtcAttachGeometry(s, g);
+      rtcReleaseGeometry(g);
+      stats_.curves += cs.size();
+    }
     rtcCommitScene(s);
     check(device, "building a prototype BVH");
     impl_->prototypes.push_back(s);
     impl_->leaf_geom_id.push_back(leaf_id);
     impl_->solid_geom_id.push_back(solid_id);
+    impl_->curve_geom_id.push_back(curve_id);
   }
 
   impl_->top = rtcNewScene(device);
@@ -228,6 +267,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
     const Prototype& p = scene.prototypes[inst.prototype];
     stats_.instanced_triangles += p.triangles.triangles.size();
     stats_.instanced_leaf_quads += p.leaves.size();
+    stats_.instanced_curves += p.curves.size();
   }
   stats_.instances = scene.instances.size();
   rtcCommitScene(impl_->top);
@@ -264,7 +304,8 @@ bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
   const uint32_t proto = impl_->instance_prototype[hit->instance];
   hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[proto];
   hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
-  if (hit->solid) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  hit->curve = rh.hit.geomID == impl_->curve_geom_id[proto];
+  if (hit->solid || hit->curve) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }
 

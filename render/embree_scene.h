@@ -23,7 +23,9 @@ struct RayHit {
   bool solid = false;  // hit a solid: `primitive` indexes Prototype::solids
   uint32_t primitive = 0;
   float u = 0, v = 0;  // Embree's barycentrics (triangles) or quad coordinates (leaves)
-  Vec3 normal{0.0f};   // solids: the unit outward normal in object space
+  Vec3 normal{0.0f};   // solids: the unit outward normal in object space; curves: the ribbon's
+                       // geometric normal in object space (not unit)
+  bool curve = false;  // hit a curve: `primitive` indexes Prototype::curves
 };
 
 struct EmbreeStats {
@@ -32,6 +34,7 @@ struct EmbreeStats {
   size_t triangles = 0, leaf_quads = 0, instances = 0;  // unique geometry
   size_t solids = 0;
   size_t instanced_triangles = 0, instanced_leaf_quads = 0;
+  size_t curves = 0, instanced_curves = 0;
 };
 
 class EmbreeScene {

@@ -91,6 +91,16 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
     si.ns = si.ng;
     return si;
   }
+  if (hit.curve) {
+    // A grass blade: a thin two-sided leaf (reflectance and transmittance) at the hit point.
+    si.p = ray.origin + hit.t * ray.direction;
+    si.material = proto.curve_material;
+    const Vec3 n = nfo * hit.normal;
+    const float ln = glm::length(n);
+    si.ng = ln > 0 ? n / ln : -ray.direction;
+    si.ns = si.ng;
+    return si;
+  }
   if (hit.leaf) {
     const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
     // Embree's quad parametrisation: triangle (c0,c1,c3) for u+v <= 1, (c2,c3,c1) beyond.

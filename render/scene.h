@@ -3,6 +3,7 @@
 // materials, the distant light and the camera. Built by scenes/ (assembly) and consumed by the
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
+#include "geometry/grass.h"
 #include "geometry/mesh.h"
 #include "geometry/solids/half_space.h"
 #include "render/lights/lights.h"
@@ -14,7 +15,8 @@
 
 namespace sylva {
 
-// A unique mesh (one BVH): triangles (bark, ground, targets) and/or leaf quads, each with a material.
+// A unique mesh (one BVH): triangles (bark, ground, targets), leaf quads, solids and/or curves,
+// each with a material.
 struct Prototype {
   std::string name;
   TriangleMesh triangles;
@@ -26,6 +28,10 @@ struct Prototype {
   // solid, never empty.
   std::vector<HalfSpaceSolid> solids;
   std::vector<std::vector<uint32_t>> solid_palettes;
+  // Thin two-sided ribbons (grass blades: Embree normal-oriented Bézier curves) in `curve_material`
+  // (a leaf material: reflectance and transmittance).
+  CurveSet curves;
+  uint32_t curve_material = 0;
 };
 
 // A placed copy of a prototype. `world_from_object` is an affine transform.

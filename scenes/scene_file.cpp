@@ -7,13 +7,18 @@
 #include "core/prospect.h"
 #include "core/registry.h"
 #include "core/rgb_spectrum.h"
+#include "geometry/grass.h"
 #include "geometry/mesh_io.h"
+#include "geometry/placement.h"
 #include "geometry/primitives.h"
+#include "geometry/terrain.h"
 #include "geometry/trees/tree_mesher.h"
+#include "scenes/forest_rasters.h"
 #include "scenes/species.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
+#include <tbb/parallel_for.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -46,10 +51,17 @@ class SceneParser {
     using Section = void (SceneParser::*)(const Params&);
     // Sections in the order they are parsed (materials before the meshes and trees that use them).
     static constexpr std::pair<std::string_view, Section> kSections[] = {
-        {"render", &SceneParser::parse_render}, {"bands", &SceneParser::parse_bands},
-        {"camera", &SceneParser::parse_camera}, {"sun", &SceneParser::parse_sun},
-        {"sky", &SceneParser::parse_sky},       {"materials", &SceneParser::parse_materials},
-        {"meshes", &SceneParser::parse_meshes}, {"trees", &SceneParser::parse_trees},
+        {"render", &SceneParser::parse_render},
+        {"bands", &SceneParser::parse_bands},
+        {"camera", &SceneParser::parse_camera},
+        {"sun", &SceneParser::parse_sun},
+        {"sky", &SceneParser::parse_sky},
+        {"materials", &SceneParser::parse_materials},
+        {"meshes", &SceneParser::parse_meshes},
+        {"trees", &SceneParser::parse_trees},
+        {"terrain", &SceneParser::parse_terrain},
+        {"grass", &SceneParser::parse_grass},
+        {"vegetation", &SceneParser::parse_vegetation},
         {"output", &SceneParser::parse_output},
     };
     for (const std::string& name : root_.names()) {
@@ -126,6 +138,10 @@ class SceneParser {
     if (!projection)
       t->fail("type", fmt::format("camera type must be {}, not \"{}\"", registered_names<Projection>(), type));
     c.projection = std::move(*projection);
+    // `above_terrain = true`: position and target z are heights above the [terrain] surface under
+    // them (an eye-height camera on any terrain); applied once the terrain is built.
+    camera_above_terrain_ = t->boolean("above_terrain", false);
+    if (camera_above_terrain_ && !root.has("terrain")) t->fail("above_terrain", "above_terrain needs a [terrain]");
     t->check_unused();
     // Single-precision ray arithmetic: beyond this distance from the origin the view frame (and
     // every hit point) loses its precision; docs/limits.md.
@@ -338,32 +354,40 @@ class SceneParser {
         } catch (const Error& e) {
           t->fail(file.string() + ": " + e.what());
         }
-        const std::string name = t->string("name", species.name);
-        std::vector<uint32_t> protos;
-        Prototype p;
-        p.name = name;
-        p.triangles = std::move(mesh.stems);
-        p.triangle_material = materials[0];
-        for (size_t slot = 0; slot + 1 < materials.size(); ++slot) {
-          LeafQuads quads = leaves_in_slot(mesh.leaves, model.leaves, slot, materials.size() - 2);
-          if (slot > 0 && quads.size() == 0) continue;
-          p.leaves = std::move(quads);
-          p.leaf_material = materials[slot + 1];
-          protos.push_back(out_.scene.add_prototype(std::move(p)));
-          p = Prototype{};
-          p.name = fmt::format("{} (leaf material {})", name, slot + 1);
-        }
-        if (!mesh.dead_stems.triangles.empty()) {
-          Prototype dead;
-          dead.name = name + " (dead branches)";
-          dead.triangles = std::move(mesh.dead_stems);
-          dead.triangle_material = t->has("dead_bark") ? material_ref(*t, "dead_bark") : darker_bark(materials[0]);
-          protos.push_back(out_.scene.add_prototype(std::move(dead)));
-        }
-        it = tree_prototypes_.emplace(key, std::move(protos)).first;
+        it = tree_prototypes_
+                 .emplace(key, add_tree_prototypes(*t, t->string("name", species.name), model, mesh, materials))
+                 .first;
       }
       for (const uint32_t proto : it->second) place(*t, proto);
     }
+  }
+
+  // The prototypes of one meshed tree: bark with the leaves of slot 0, one more per further leaf
+  // material slot, and its dead branches; in that order.
+  std::vector<uint32_t> add_tree_prototypes(const Params& t, const std::string& name, const TreeModel& model,
+                                            TreeMesh& mesh, const std::vector<uint32_t>& materials) {
+    std::vector<uint32_t> protos;
+    Prototype p;
+    p.name = name;
+    p.triangles = std::move(mesh.stems);
+    p.triangle_material = materials[0];
+    for (size_t slot = 0; slot + 1 < materials.size(); ++slot) {
+      LeafQuads quads = leaves_in_slot(mesh.leaves, model.leaves, slot, materials.size() - 2);
+      if (slot > 0 && quads.size() == 0) continue;
+      p.leaves = std::move(quads);
+      p.leaf_material = materials[slot + 1];
+      protos.push_back(out_.scene.add_prototype(std::move(p)));
+      p = Prototype{};
+      p.name = fmt::format("{} (leaf material {})", name, slot + 1);
+    }
+    if (!mesh.dead_stems.triangles.empty()) {
+      Prototype dead;
+      dead.name = name + " (dead branches)";
+      dead.triangles = std::move(mesh.dead_stems);
+      dead.triangle_material = t.has("dead_bark") ? material_ref(t, "dead_bark") : darker_bark(materials[0]);
+      protos.push_back(out_.scene.add_prototype(std::move(dead)));
+    }
+    return protos;
   }
 
   // A Fournier–Grindal tree: one prototype holding its solids (trunk, crown), made once per
@@ -501,6 +525,264 @@ class SceneParser {
     return sp->second;
   }
 
+  // [terrain]: an elevation raster (any one-channel image OpenImageIO reads, 16-bit integer or
+  // float) or a procedural fBm/ridged terrain, meshed once (geometry/terrain.h) with smooth normals.
+  void parse_terrain(const Params& root) {
+    const Params* t = root.table("terrain");
+    t->check_keys({"file", "metres_per_pixel", "vertical_scale", "height_offset", "origin", "step", "material",
+                   "object_id", "size", "centre", "resolution", "relief", "feature_size", "octaves", "gain", "noise",
+                   "seed"});
+    const uint32_t material = material_ref(*t, "material");
+    const int step = static_cast<int>(t->integer("step", 1, 1, 4096));
+    if (t->has("file")) {
+      for (const char* key :
+           {"size", "centre", "resolution", "relief", "feature_size", "octaves", "gain", "noise", "seed"})
+        if (t->has(key)) t->fail(key, fmt::format("'{}' is for a procedural terrain (one without 'file')", key));
+      ElevationRaster er;
+      er.metres_per_pixel = t->real("metres_per_pixel", 1.0, 1e-3, 1e5);
+      er.vertical_scale = t->real("vertical_scale", 1.0, 0.0, 1e5);
+      er.height_offset_m = t->real("height_offset", 0.0, -1e5, 1e5);
+      if (t->has("origin")) er.origin_m = t->vec2("origin", Vec2(0.0f));
+      er.step = step;
+      try {
+        terrain_ = read_elevation_raster(t->file_path("file"), er, &extent_min_, &extent_max_);
+      } catch (const ParseError&) {
+        throw;
+      } catch (const Error& e) {
+        t->fail("file", e.what());
+      }
+    } else {
+      for (const char* key : {"metres_per_pixel", "vertical_scale", "height_offset", "origin"})
+        if (t->has(key)) t->fail(key, fmt::format("'{}' is for a terrain from a raster ('file')", key));
+      ProceduralTerrainParams pt;
+      pt.size_m = t->vec2("size", pt.size_m);
+      if (!(pt.size_m.x > 0 && pt.size_m.y > 0 && pt.size_m.x <= 1e6f && pt.size_m.y <= 1e6f))
+        t->fail("size", "size = [x, y] must be positive metres, at most 1e6");
+      pt.centre_m = t->vec2("centre", pt.centre_m);
+      pt.resolution_m = t->real("resolution", pt.resolution_m, 1e-3, 1e5) * static_cast<float>(step);
+      pt.relief_m = t->real("relief", pt.relief_m, 0.0, 1e5);
+      pt.feature_size_m = t->real("feature_size", pt.feature_size_m, 1e-2, 1e7);
+      pt.octaves = static_cast<int>(t->integer("octaves", pt.octaves, 1, 16));
+      pt.gain = t->real("gain", pt.gain, 0.0, 1.0);
+      const std::string noise = t->string("noise", "fbm");
+      if (noise != "fbm" && noise != "ridged") t->fail("noise", "noise must be \"fbm\" or \"ridged\"");
+      pt.ridged = noise == "ridged";
+      pt.seed = static_cast<uint64_t>(t->integer("seed", 1, 0, INT64_MAX));
+      if (static_cast<double>(pt.size_m.x / pt.resolution_m) * static_cast<double>(pt.size_m.y / pt.resolution_m) >
+          kMaxTerrainNodes)
+        t->fail("resolution",
+                fmt::format("the terrain would have more than {:g} nodes: raise resolution or step", kMaxTerrainNodes));
+      terrain_ = make_procedural_terrain(pt);
+      extent_min_ = pt.centre_m - 0.5f * pt.size_m;
+      extent_max_ = pt.centre_m + 0.5f * pt.size_m;
+    }
+    if (static_cast<double>(terrain_->width) * terrain_->height > kMaxTerrainNodes)
+      t->fail("step", fmt::format("the terrain has {} x {} nodes, more than {:g}: raise step", terrain_->width,
+                                  terrain_->height, kMaxTerrainNodes));
+    if (camera_above_terrain_) {
+      CameraDesc& c = out_.scene.camera;
+      c.position.z += terrain_height(*terrain_, Vec2(c.position));
+      c.target.z += terrain_height(*terrain_, Vec2(c.target));
+    }
+    Prototype p;
+    p.name = "terrain";
+    p.triangles = make_terrain_mesh(*terrain_);
+    p.triangle_material = material;
+    out_.scene.instances.push_back(Instance{out_.scene.add_prototype(std::move(p)), Mat4(1.0f),
+                                            static_cast<uint32_t>(t->integer("object_id", 0, 0, 1 << 24))});
+  }
+
+  // [[grass]]: up to three grass types (feature-map grass bits 1–3, in order), each a patch of
+  // curved blades made once (geometry/grass.h) and instanced by [vegetation].
+  void parse_grass(const Params& root) {
+    const std::vector<const Params*> tables = root.tables("grass");
+    for (const Params* t : tables) {
+      if (grass_.size() == kFeatureGrassTypes)
+        t->fail("at most 3 [[grass]] types (a feature map's 2 grass bits choose one of 3)");
+      t->check_keys({"name", "material", "density", "length", "width", "bend", "patch_size", "seed"});
+      GrassParams g;
+      g.density_per_m2 = t->real("density", g.density_per_m2, 0.0, 1e5);
+      g.length_m = range(*t, "length", g.length_m, 1e-3, 10.0);
+      g.width_m = t->real("width", g.width_m, 1e-5, 1.0);
+      g.bend = t->real("bend", g.bend, 0.0, 1.0);
+      g.patch_size_m = t->real("patch_size", g.patch_size_m, 0.1, 100.0);
+      Prototype p;
+      p.name = t->string("name", fmt::format("grass {}", grass_.size() + 1));
+      p.curve_material = material_ref(*t, "material");
+      try {
+        p.curves = make_grass_patch(g, static_cast<uint64_t>(t->integer("seed", 1, 0, INT64_MAX)));
+      } catch (const Error& e) {
+        t->fail("density", e.what());
+      }
+      grass_.push_back({out_.scene.add_prototype(std::move(p)), g.patch_size_m});
+    }
+  }
+
+  // `key = x` or `key = [lo, hi]` (lo <= hi) within [lo_limit, hi_limit].
+  static Vec2 range(const Params& t, const char* key, Vec2 fallback, double lo_limit, double hi_limit) {
+    const ParamValue* v = t.get(key);
+    if (v == nullptr) return fallback;
+    const Vec2 r = v->is_number() ? Vec2(t.real(key, 0.0, lo_limit, hi_limit)) : t.vec2(key, fallback);
+    if (!(r.x >= lo_limit && r.y <= hi_limit && r.x <= r.y))
+      t.fail(key, fmt::format("{} = [min, max] needs {:g} <= min <= max <= {:g}", key, lo_limit, hi_limit));
+    return r;
+  }
+
+  // [vegetation]: trees and grass over the terrain from a 16-bit feature map (Weber & Penn §6,
+  // plates 3–4): [[vegetation.species]] name a species file per bit 0–13 with a density, minimum
+  // spacing, variants (seeds) and scale range; the top two bits choose a [[grass]] type. Every
+  // variant is generated once, in parallel, and instanced; each placed tree gets its own object id.
+  void parse_vegetation(const Params& root) {
+    const Params* t = root.table("vegetation");
+    t->check_keys({"feature_map", "seed", "first_object_id", "feature_resolution", "patch_size", "tree_cover",
+                   "grass_cover", "species"});
+    if (!terrain_) t->fail("[vegetation] needs a [terrain] to place on");
+    const uint64_t seed = static_cast<uint64_t>(t->integer("seed", 1, 0, INT64_MAX));
+    const std::vector<const Params*> entries = t->has("species") ? t->tables("species") : std::vector<const Params*>{};
+    struct Variant {
+      size_t entry = 0;
+      uint64_t seed = 0;
+      TreeModel model;
+      TreeMesh mesh;
+      std::string error;
+    };
+    std::vector<SpeciesPlacement> rules;
+    std::vector<Variant> variants;
+    std::vector<const Species*> species;
+    std::vector<TreeOptions> options;
+    std::vector<std::vector<uint32_t>> materials;
+    uint32_t bits_used = 0;
+    for (const Params* e : entries) {
+      e->check_keys({"bit", "species", "name", "seed", "bark", "leaf", "dead_bark", "quality", "density", "min_spacing",
+                     "variants", "scale"});
+      if (!e->has("bit")) e->fail("[[vegetation.species]] needs bit = 0..13 (its feature-map bit)");
+      SpeciesPlacement rule;
+      rule.bit = static_cast<int>(e->integer("bit", 0, 0, kFeatureTreeBits - 1));
+      if (bits_used >> rule.bit & 1u) e->fail("bit", fmt::format("bit {} names two species", rule.bit));
+      bits_used |= 1u << rule.bit;
+      const Species& sp = load_species_once(e->file_path("species"));
+      if (std::holds_alternative<FournierGrindalParams>(sp.model))
+        e->fail("species", "a Fournier–Grindal species cannot be placed from a feature map (it has no trunk mesh)");
+      species.push_back(&sp);
+      materials.push_back(tree_materials(*e, sp, true));
+      TreeOptions o;
+      o.quality = e->real("quality", 1.0, 0.01, 100.0);
+      if (options_.time_s) o.time_s = *options_.time_s;
+      options.push_back(o);
+      rule.density_per_ha = e->real("density", 100.0, 0.0, 1e6);
+      rule.min_spacing_m = e->real("min_spacing", 2.0, 0.01, 1e4);
+      if (rule.density_per_ha > 0 && std::sqrt(1e4 / rule.density_per_ha) <= rule.min_spacing_m)
+        e->fail("density", fmt::format("a density of {:g} trees/ha cannot keep min_spacing = {:g} m (at most {:g})",
+                                       rule.density_per_ha, rule.min_spacing_m, 1e4 / sqr(rule.min_spacing_m)));
+      rule.scale_range = range(*e, "scale", Vec2(1.0f), 1e-3, 1e3);
+      const int count = static_cast<int>(e->integer("variants", 1, 1, 1000));
+      const uint64_t first_seed = static_cast<uint64_t>(e->integer("seed", 1, 0, INT64_MAX - 1000));
+      for (int k = 0; k < count; ++k)
+        variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}, {}, {}});
+      rules.push_back(rule);
+    }
+    // Every variant once, in parallel; results (and the first error, in entry order) do not
+    // depend on the thread count.
+    tbb::parallel_for(size_t{0}, variants.size(), [&](size_t i) {
+      Variant& v = variants[i];
+      try {
+        v.model = make_species_model(*species[v.entry], v.seed, options[v.entry]);
+        TreeMeshOptions mo;
+        mo.quality = options[v.entry].quality;
+        mo.split_dead_stems = true;
+        v.mesh = mesh_species_model(*species[v.entry], v.model, mo);
+      } catch (const Error& e) {
+        v.error = e.what();
+      }
+    });
+    std::vector<std::vector<std::vector<uint32_t>>> protos(rules.size());
+    for (Variant& v : variants) {
+      const Params& e = *entries[v.entry];
+      if (!v.error.empty()) e.fail("species", e.file_path("species").string() + ": " + v.error);
+      // The footprint: the widest bark vertex within 10 cm of the ground (flare and lobes included).
+      float radius = 0.0f;
+      for (const Vec3& p : v.mesh.stems.positions)
+        if (p.z < 0.1f) radius = std::max(radius, glm::length(Vec2(p)));
+      rules[v.entry].trunk_radius_m.push_back(radius);
+      const std::string name = fmt::format("{} seed {}", e.string("name", species[v.entry]->name), v.seed);
+      protos[v.entry].push_back(add_tree_prototypes(e, name, v.model, v.mesh, materials[v.entry]));
+      v.model = TreeModel{};
+    }
+
+    FeatureMap map;
+    if (t->has("feature_map")) {
+      for (const char* key : {"feature_resolution", "patch_size", "tree_cover", "grass_cover"})
+        if (t->has(key))
+          t->fail(key, fmt::format("'{}' is for a procedural feature map (one without 'feature_map')", key));
+      const std::filesystem::path file = t->file_path("feature_map");
+      try {
+        map = read_feature_map(file, extent_min_, extent_max_);
+      } catch (const ParseError&) {
+        throw;
+      } catch (const Error& e) {
+        t->fail("feature_map", e.what());
+      }
+      uint32_t present = 0;
+      for (const uint16_t v : map.bits) present |= v;
+      for (int b = 0; b < kFeatureTreeBits; ++b)
+        if ((present >> b & 1u) && !(bits_used >> b & 1u))
+          t->fail("feature_map",
+                  fmt::format("{}: bit {} is set but no [[vegetation.species]] has bit = {}", file.string(), b, b));
+      for (const uint16_t v : map.bits)
+        if (grass_type(v) > static_cast<int>(grass_.size()))
+          t->fail("feature_map", fmt::format("{}: grass type {} is used but only {} [[grass]] type(s) are declared",
+                                             file.string(), grass_type(v), grass_.size()));
+    } else {
+      ProceduralFeatureParams pf;
+      pf.min_m = extent_min_;
+      pf.max_m = extent_max_;
+      pf.pixel_m = t->real("feature_resolution", pf.pixel_m, 0.01, 1e4);
+      pf.patch_m = t->real("patch_size", pf.patch_m, 0.1, 1e6);
+      pf.tree_cover = t->real("tree_cover", pf.tree_cover, 0.0, 1.0);
+      pf.grass_cover = t->real("grass_cover", pf.grass_cover, 0.0, 1.0);
+      for (const SpeciesPlacement& r : rules) pf.tree_bits.push_back(r.bit);
+      pf.grass_types = static_cast<int>(grass_.size());
+      pf.seed = seed;
+      if (static_cast<double>((pf.max_m.x - pf.min_m.x) / pf.pixel_m) * ((pf.max_m.y - pf.min_m.y) / pf.pixel_m) >
+          kMaxTerrainNodes)
+        t->fail("feature_resolution", "the procedural feature map would be too large: raise feature_resolution");
+      map = make_procedural_feature_map(pf);
+    }
+
+    std::vector<PlacedTree> trees;
+    try {
+      trees = place_trees(map, *terrain_, rules, seed);
+    } catch (const Error& e) {
+      t->fail(e.what());
+    }
+    uint32_t next_id = 1;
+    for (const Instance& inst : out_.scene.instances) next_id = std::max(next_id, inst.object_id + 1);
+    const int64_t first_id = t->integer("first_object_id", next_id, 1, 1 << 24);
+    if (first_id + static_cast<int64_t>(trees.size()) > (int64_t{1} << 24))
+      t->fail("first_object_id",
+              fmt::format("{} trees from object id {} exceed the largest id, 2^24", trees.size(), first_id));
+    out_.scene.instances.reserve(out_.scene.instances.size() + trees.size());
+    for (size_t i = 0; i < trees.size(); ++i) {
+      const PlacedTree& tree = trees[i];
+      Mat4 m = glm::translate(Mat4(1.0f), tree.base_m);
+      m = glm::rotate(m, tree.heading_rad, Vec3(0, 0, 1));
+      m = glm::scale(m, Vec3(tree.scale));
+      for (const uint32_t proto : protos[tree.species][tree.variant])
+        out_.scene.instances.push_back(Instance{proto, m, static_cast<uint32_t>(first_id + static_cast<int64_t>(i))});
+    }
+    std::vector<float> patch_sizes;
+    for (const GrassType& g : grass_) patch_sizes.push_back(g.patch_size_m);
+    for (const PlacedPatch& patch : place_grass_patches(map, *terrain_, patch_sizes, seed)) {
+      // Onto the local slope: z += slope · (x, y), blades stay vertical; then the heading.
+      Mat4 shear(1.0f);
+      shear[0][2] = patch.slope.x;
+      shear[1][2] = patch.slope.y;
+      const Mat4 m = glm::translate(Mat4(1.0f), patch.centre_m) * shear *
+                     glm::rotate(Mat4(1.0f), patch.heading_rad, Vec3(0, 0, 1));
+      out_.scene.instances.push_back(Instance{grass_[static_cast<size_t>(patch.grass_type - 1)].prototype, m, 0});
+    }
+  }
+
   void parse_output(const Params& root) {
     const Params* t = root.table("output");
     t->check_keys({"exr", "png", "exposure", "auto_exposure", "view"});
@@ -520,6 +802,16 @@ class SceneParser {
   std::map<std::string, std::vector<uint32_t>> tree_prototypes_;
   std::map<std::string, Species> species_;
   uint64_t dependency_hash_ = 0;
+  // [terrain]: the height field and the extent a feature map covers; [[grass]]: the patch
+  // prototype and size of each grass type.
+  std::optional<HeightField> terrain_;
+  bool camera_above_terrain_ = false;
+  Vec2 extent_min_{0.0f}, extent_max_{0.0f};
+  struct GrassType {
+    uint32_t prototype = 0;
+    float patch_size_m = 0.0f;
+  };
+  std::vector<GrassType> grass_;
 };
 
 // Relative file names resolve against the scene's directory, then Sylva's data directory. Every

@@ -45,6 +45,10 @@ struct SceneFile {
 // precision beyond it (docs/limits.md).
 inline constexpr float kMaxSceneCoordinate_m = 1e7f;
 
+// The most nodes a terrain (after `step`) or a procedural feature map may have: 2^26, about
+// 1.5 GiB of mesh (docs/limits.md).
+inline constexpr double kMaxTerrainNodes = 67108864.0;
+
 // How to assemble a scene beyond what its file says.
 struct SceneOptions {
   // The time (s) of every [[trees]] table's wind sway, replacing its `time`: a frame of a wind

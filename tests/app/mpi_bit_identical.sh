@@ -8,7 +8,8 @@ set -euo pipefail
 sylva=$1 sylva_mpi=$2 mpiexec=$3
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-common=(--res 40x24 --spp 6 --threads 1 --quiet)
+objects="$(cd "$(dirname "$0")/../.." && pwd)/data/examples/objects.toml"  # the CLI tests' small scene
+common=("$objects" --res 40x24 --spp 6 --threads 1 --quiet)
 "$sylva" render -o "$dir/single.exr" --png "$dir/single.png" "${common[@]}"
 fail=0
 for n in 2 4; do
@@ -39,7 +40,7 @@ else
   echo "ok: a failing rank fails the run with: $(grep -m1 'sylva-mpi' "$dir/err.txt")"
 fi
 # A killed rank: SIGKILL rank 1 once a few chunks are in OUT.exr.parts/.
-big=(--res 120x96 --spp 64 --threads 1 --quiet)
+big=("$objects" --res 120x96 --spp 64 --threads 1 --quiet)
 "$sylva" render -o "$dir/big.exr" "${big[@]}"
 "$mpiexec" --allow-run-as-root --oversubscribe -n 2 "$sylva_mpi" -o "$dir/killed.exr" --chunks 48 "${big[@]}" \
   >"$dir/killed.txt" 2>&1 &

@@ -23,14 +23,14 @@ const std::string kCommon = " --res 30x20 --spp 7 --quiet --threads 2";
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
-// Renders all `n` chunks of the default scene into dir/<tag>.<i>.part; returns the merge arguments.
+// Renders all `n` chunks of the small objects scene into dir/<tag>.<i>.part; returns the merge arguments.
 std::string render_chunks(const fs::path& dir, const std::string& tag, int n, const std::string& split,
                           const std::string& extra = "") {
   std::string parts;
   for (int i = n - 1; i >= 0; --i) {
     const fs::path part = dir / (tag + "." + std::to_string(i) + ".part");
-    const auto r = run_sylva("render -o " + q(part) + " --chunk " + std::to_string(i) + "/" + std::to_string(n) +
-                                 " --split " + split + kCommon + extra,
+    const auto r = run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(part) + " --chunk " +
+                                 std::to_string(i) + "/" + std::to_string(n) + " --split " + split + kCommon + extra,
                              dir);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     parts += " " + q(part);
@@ -40,8 +40,11 @@ std::string render_chunks(const fs::path& dir, const std::string& tag, int n, co
 
 TEST(CliChunks, MergeEqualsSingleRenderByteForByte) {
   const fs::path dir = fresh_dir("cli_chunks");
-  ASSERT_EQ(
-      run_sylva("render -o " + q(dir / "single.exr") + " --png " + q(dir / "single.png") + kCommon, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "single.exr") +
+                          " --png " + q(dir / "single.png") + kCommon,
+                      dir)
+                .exit_code,
+            0);
   const std::string single = read_text(dir / "single.exr"), single_png = read_text(dir / "single.png");
   ASSERT_FALSE(single.empty());
   for (const std::string split : {"samples", "tiles"})
@@ -75,25 +78,40 @@ TEST(CliChunks, ForeignMissingAndDuplicatedPartsAreNamed) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find((dir / "again.part").string() + ": duplicated part: chunk 1/3"), std::string::npos) << r.err;
   // Foreign: another seed, and another band set.
-  ASSERT_EQ(run_sylva("render -o " + q(dir / "seed.part") + " --chunk 1/3 --seed 5" + kCommon, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "seed.part") +
+                          " --chunk 1/3 --seed 5" + kCommon,
+                      dir)
+                .exit_code,
+            0);
   r = run_sylva("merge " + q(a0) + " " + q(dir / "seed.part") + " " + q(a2) + " -o " + q(out), dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find((dir / "seed.part").string() + ": foreign part"), std::string::npos) << r.err;
-  ASSERT_EQ(run_sylva("render -o " + q(dir / "bands.part") + " --chunk 1/3 --bands rgb" + kCommon, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "bands.part") +
+                          " --chunk 1/3 --bands rgb" + kCommon,
+                      dir)
+                .exit_code,
+            0);
   r = run_sylva("merge " + q(a0) + " " + q(dir / "bands.part") + " " + q(a2) + " -o " + q(out), dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find((dir / "bands.part").string() + ": foreign part"), std::string::npos) << r.err;
   // A finished EXR is not a part.
-  ASSERT_EQ(run_sylva("render -o " + q(dir / "full.exr") + kCommon, dir).exit_code, 0);
+  ASSERT_EQ(
+      run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "full.exr") + kCommon, dir)
+          .exit_code,
+      0);
   r = run_sylva("merge " + q(dir / "full.exr") + " -o " + q(out), dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("not a Sylva partial render"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
   // Bad chunk arguments.
-  r = run_sylva("render -o " + q(dir / "x.part") + " --chunk 3/3" + kCommon, dir);
+  r = run_sylva(
+      "render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "x.part") + " --chunk 3/3" + kCommon,
+      dir);
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("0 <= i < N"), std::string::npos) << r.err;
-  r = run_sylva("render -o " + q(dir / "x.part") + " --chunk 0/8" + kCommon, dir);  // 8 chunks of 7 spp
+  r = run_sylva(
+      "render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "x.part") + " --chunk 0/8" + kCommon,
+      dir);  // 8 chunks of 7 spp
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("every chunk needs a sample"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "x.part"));
@@ -107,7 +125,10 @@ TEST(CliChunks, PartialMergePreviewsAndSaysWhatIsMissing) {
       run_sylva("merge " + q(dir / "t.0.part") + " " + q(dir / "t.2.part") + " -o " + q(out) + " --partial", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("partial merge: chunks 1 of 3 missing"), std::string::npos) << r.err;
-  ASSERT_EQ(run_sylva("render -o " + q(dir / "single.exr") + kCommon, dir).exit_code, 0);
+  ASSERT_EQ(
+      run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "single.exr") + kCommon, dir)
+          .exit_code,
+      0);
   const Image preview = read_exr(out), single = read_exr(dir / "single.exr");
   const int g = single.find_channel("G");
   // Rows of the present chunks are exact; the missing band (rows 6..12 of 20) is black.

@@ -46,8 +46,14 @@ TEST(CliBands, ListsEveryBuiltInBandWithCentreWidthAndSource) {
 TEST(CliRender, ReflectanceQuantityIsRecordedInTheHeader) {
   const fs::path dir = fresh_dir("cli_reflectance");
   const std::string common = " --res 16x9 --spp 2 --quiet --bands rgb,S2A_B8";
-  ASSERT_EQ(run_sylva("render -o '" + (dir / "l.exr").string() + "'" + common, dir).exit_code, 0);
-  const auto r = run_sylva("render -o '" + (dir / "r.exr").string() + "' --quantity reflectance" + common, dir);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "l.exr").string() + "'" +
+                          common,
+                      dir)
+                .exit_code,
+            0);
+  const auto r = run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "r.exr").string() +
+                               "' --quantity reflectance" + common,
+                           dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Image l = read_exr(dir / "l.exr"), f = read_exr(dir / "r.exr");
   EXPECT_EQ(l.attribute("sylva:quantity"), "radiance");
@@ -65,7 +71,9 @@ TEST(CliRender, ReflectanceQuantityIsRecordedInTheHeader) {
     const float fv = f.pixels[size_t(i) * f.channels.size() + size_t(c)];
     EXPECT_NEAR(fv, lv * std::numbers::pi / e_b8, 1e-5 * std::abs(fv) + 1e-9);
   }
-  const auto bad = run_sylva("render -o '" + (dir / "x.exr").string() + "' --quantity brf" + common, dir);
+  const auto bad = run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" +
+                                 (dir / "x.exr").string() + "' --quantity brf" + common,
+                             dir);
   EXPECT_EQ(bad.exit_code, 2);
 }
 

@@ -24,9 +24,10 @@ using test::run_sylva;
 
 TEST(CliRender, DefaultSceneWritesExrAndPng) {
   const fs::path dir = fresh_dir("cli_default");
-  const auto r = run_sylva("render -o '" + (dir / "out.exr").string() + "' --png '" + (dir / "out.png").string() +
-                               "' --res 48x27 --spp 4 --quiet",
-                           dir);
+  const auto r =
+      run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "out.exr").string() +
+                    "' --png '" + (dir / "out.png").string() + "' --res 48x27 --spp 4 --quiet",
+                dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(r.err.empty()) << r.err;  // --quiet
   ASSERT_TRUE(fs::exists(dir / "out.png"));
@@ -46,7 +47,8 @@ TEST(CliRender, DefaultSceneWritesExrAndPng) {
     const std::string name = e.path().filename().string();
     EXPECT_TRUE(name == "out.exr" || name == "out.png" || name.ends_with(".txt")) << name;
   }
-  // Labels: the default scene has 10 instances; the target box is object 1, the trees object 2.
+  // Labels: the objects scene (data/examples/objects.toml) has 10 instances; the target box is object 1, the trees
+  // object 2.
   const int inst = img.find_channel("id.instance"), obj = img.find_channel("id.object");
   float max_instance = 0;
   bool target = false, tree = false;
@@ -83,10 +85,14 @@ TEST(CliRender, BadSceneFailsWithFileLineAndNoOutput) {
       run_sylva("render '" + (dir / "nope.toml").string() + "' -o '" + (dir / "o.exr").string() + "'", dir);
   EXPECT_EQ(missing.exit_code, 2);
   EXPECT_NE(missing.err.find("nope.toml:0: cannot open scene file"), std::string::npos) << missing.err;
-  const auto bad_res = run_sylva("render -o '" + (dir / "o.exr").string() + "' --res 12by4", dir);
+  const auto bad_res = run_sylva(
+      "render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "o.exr").string() + "' --res 12by4",
+      dir);
   EXPECT_EQ(bad_res.exit_code, 2);
   EXPECT_NE(bad_res.err.find("--res"), std::string::npos);
-  const auto bad_band = run_sylva("render -o '" + (dir / "o.exr").string() + "' --bands rgb,xray --res 8x8", dir);
+  const auto bad_band = run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" +
+                                      (dir / "o.exr").string() + "' --bands rgb,xray --res 8x8",
+                                  dir);
   EXPECT_EQ(bad_band.exit_code, 2);
   EXPECT_NE(bad_band.err.find("unknown band 'xray'"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "o.exr"));
@@ -95,13 +101,29 @@ TEST(CliRender, BadSceneFailsWithFileLineAndNoOutput) {
 TEST(CliRender, BitIdenticalFilesAtAnyThreadCount) {
   const fs::path dir = fresh_dir("cli_threads");
   const std::string common = " --res 40x24 --spp 3 --quiet --bands rgb,nir,S2A_B8";
-  ASSERT_EQ(run_sylva("render -o '" + (dir / "t1.exr").string() + "' --threads 1" + common, dir).exit_code, 0);
-  ASSERT_EQ(run_sylva("render -o '" + (dir / "t2.exr").string() + "' --threads 2" + common, dir).exit_code, 0);
-  ASSERT_EQ(run_sylva("render -o '" + (dir / "t3.exr").string() + "' --threads 3" + common, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "t1.exr").string() +
+                          "' --threads 1" + common,
+                      dir)
+                .exit_code,
+            0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "t2.exr").string() +
+                          "' --threads 2" + common,
+                      dir)
+                .exit_code,
+            0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "t3.exr").string() +
+                          "' --threads 3" + common,
+                      dir)
+                .exit_code,
+            0);
   EXPECT_EQ(read_text(dir / "t1.exr"), read_text(dir / "t2.exr"));
   EXPECT_EQ(read_text(dir / "t1.exr"), read_text(dir / "t3.exr"));
   // A different seed gives a different image.
-  ASSERT_EQ(run_sylva("render -o '" + (dir / "s2.exr").string() + "' --seed 2" + common, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "s2.exr").string() +
+                          "' --seed 2" + common,
+                      dir)
+                .exit_code,
+            0);
   EXPECT_NE(read_text(dir / "t1.exr"), read_text(dir / "s2.exr"));
 }
 
@@ -113,8 +135,9 @@ TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
   const pid_t pid = ::fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
-    const std::string cmd =
-        std::string(SYLVA_BINARY) + " render -o '" + out.string() + "' --res 160x90 --spp 320 --threads 2";
+    const std::string cmd = std::string(SYLVA_BINARY) +
+                            " render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + out.string() +
+                            "' --res 160x90 --spp 320 --threads 2";
     ::execl("/bin/sh", "sh", "-c", ("exec " + cmd + " 2>'" + log.string() + "'").c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }
@@ -129,24 +152,36 @@ TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
   EXPECT_NE(read_text(log).find("interrupted: checkpoint with"), std::string::npos) << read_text(log);
   EXPECT_FALSE(fs::exists(out)) << "no output from an interrupted render";
   ASSERT_TRUE(fs::exists(out.string() + ".checkpoint"));
-  const auto resumed = run_sylva("render -o '" + out.string() + "' --resume" + common, dir);
+  const auto resumed = run_sylva(
+      "render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + out.string() + "' --resume" + common, dir);
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_FALSE(fs::exists(out.string() + ".checkpoint"));
-  ASSERT_EQ(run_sylva("render -o '" + (dir / "full.exr").string() + "'" + common, dir).exit_code, 0);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + (dir / "full.exr").string() +
+                          "'" + common,
+                      dir)
+                .exit_code,
+            0);
   EXPECT_EQ(read_text(out), read_text(dir / "full.exr"));
   // Resuming a different render is refused.
-  ASSERT_EQ(run_sylva("render -o '" + out.string() + "'" + common + " --checkpoint-minutes 0", dir).exit_code, 0);
-  const auto wrong = run_sylva("render -o '" + (dir / "none.exr").string() + "' --resume" + common, dir);
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" + out.string() + "'" + common +
+                          " --checkpoint-minutes 0",
+                      dir)
+                .exit_code,
+            0);
+  const auto wrong = run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o '" +
+                                   (dir / "none.exr").string() + "' --resume" + common,
+                               dir);
   EXPECT_EQ(wrong.exit_code, 2);
   EXPECT_NE(wrong.err.find("no checkpoint"), std::string::npos) << wrong.err;
 }
 
 TEST(CliExport, FlattensTheSceneToObj) {
   const fs::path dir = fresh_dir("cli_export");
-  const auto r = run_sylva("export --obj '" + (dir / "scene.obj").string() + "' -q", dir);
+  const auto r = run_sylva(
+      "export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --obj '" + (dir / "scene.obj").string() + "' -q", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string obj = read_text(dir / "scene.obj");
-  // The default scene: 2522 instanced triangles + 27000 leaf quads as two triangles each.
+  // The objects scene: 2522 instanced triangles + 27000 leaf quads as two triangles each.
   size_t faces = 0;
   for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
   EXPECT_EQ(faces, 2522u + 2u * 27000u);

@@ -40,7 +40,7 @@ TEST(SceneFile, DefaultSceneParses) {
 }
 
 TEST(SceneFile, ExampleScenesParse) {
-  for (const char* name : {"default.toml", "aspen_grove.toml", "tree_models.toml"}) {
+  for (const char* name : {"objects.toml", "aspen_grove.toml", "tree_models.toml", "forest_aerial.toml"}) {
     EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/data/examples/" + name)) << name;
   }
 }
@@ -259,7 +259,7 @@ namespace {
 
 TEST(SceneFile, MutatedAndTruncatedFilesNeverCrash) {
   // Every mutation either parses or throws a sylva::Error (ParseError for the file's own text).
-  std::ifstream in(SYLVA_SOURCE_DIR "/data/examples/default.toml");
+  std::ifstream in(SYLVA_SOURCE_DIR "/data/examples/objects.toml");
   const std::string base((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_GT(base.size(), 100u);
   Pcg32 rng(99);

@@ -96,7 +96,8 @@ echo "slurm up: $(sinfo -h -o '%P %t %N')"
 work="$dir/work"
 mkdir -p "$work"
 chmod 777 "$dir/work"
-args=(--res 40x24 --spp 8)
+objects="$(cd "$(dirname "$0")/../.." && pwd)/data/examples/objects.toml"  # the CLI tests' small scene
+args=("$objects" --res 40x24 --spp 8)
 "$sylva" render -o "$work/single.exr" "${args[@]}" --threads 1 --quiet || exit 1
 ids=$(SYLVA="$sylva" SPLIT=samples PNG="$work/merged.png" SBATCH_ARGS="--output=$work/slurm-%A_%a.out" \
   "$repo/scripts/slurm/submit_chunks.sh" 4 "$work/merged.exr" -- "${args[@]}" --threads 1) || exit 1
