@@ -44,7 +44,7 @@ TEST(CliRender, DefaultSceneWritesExrAndPng) {
   // No temporary or checkpoint files are left behind.
   for (const auto& e : fs::directory_iterator(dir)) {
     const std::string name = e.path().filename().string();
-    EXPECT_TRUE(name == "out.exr" || name == "out.png" || name.ends_with(".txt")) << name;
+    EXPECT_TRUE(name == "out.exr" || name == "out.png" || name == "out.json" || name.ends_with(".txt")) << name;
   }
   // Labels: the default scene has 10 instances; the target box is object 1, the trees object 2.
   const int inst = img.find_channel("id.instance"), obj = img.find_channel("id.object");
