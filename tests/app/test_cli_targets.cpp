@@ -18,6 +18,12 @@ using test::fresh_dir;
 using test::read_text;
 using test::run_sylva;
 
+// `sylva render DIR/scene.toml -o DIR/out.exr ARGS`.
+test::CommandResult render_in(const fs::path& dir, const std::string& args) {
+  return run_sylva("render '" + (dir / "scene.toml").string() + "' -o '" + (dir / "out.exr").string() + "' " + args,
+                   dir);
+}
+
 const std::string kScene = R"([render]
 width = 40
 height = 30
@@ -64,7 +70,7 @@ TEST(CliTargets, WritesTheLabelSidecarBesideTheExr) {
   const fs::path dir = fresh_dir("cli_targets");
   std::ofstream(dir / "scene.toml") << kScene;
   std::ofstream(dir / "trees.csv") << "x,y,species,seed,scale,heading\n-6,4,aspen,1,1,0\n6,4,aspen,2,1,30\n";
-  const auto r = run_sylva("render scene.toml -o out.exr --quiet", dir);
+  const auto r = render_in(dir, "--quiet");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   ASSERT_TRUE(fs::exists(dir / "out.json"));
   const test::Json j = test::parse_json(read_text(dir / "out.json"));
@@ -97,7 +103,7 @@ TEST(CliTargets, PlacementErrorsExitTwoAndWriteNothing) {
   };
   for (const auto& [list, message] : cases) {
     std::ofstream(dir / "trees.csv") << list;
-    const auto r = run_sylva("render scene.toml -o out.exr --png out.png --quiet", dir);
+    const auto r = render_in(dir, "--png '" + (dir / "out.png").string() + "' --quiet");
     EXPECT_EQ(r.exit_code, 2) << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
     EXPECT_EQ(files_in(dir), (std::vector<std::string>{"scene.toml", "stderr.txt", "stdout.txt", "trees.csv"}));
@@ -109,7 +115,7 @@ TEST(CliTargets, PlacementErrorsExitTwoAndWriteNothing) {
   scene.replace(scene.find("species/quaking_aspen.toml"), std::string("species/quaking_aspen.toml").size(),
                 "broken.toml");
   std::ofstream(dir / "scene.toml") << scene;
-  const auto r = run_sylva("render scene.toml -o out.exr --quiet", dir);
+  const auto r = render_in(dir, "--quiet");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("broken.toml:"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out.exr"));
@@ -124,7 +130,7 @@ TEST(CliTargets, TheSidecarMayNotReplaceAnInput) {
   scene.replace(scene.find("trees.csv"), 9, "out.json");
   std::ofstream(dir / "scene.toml") << scene;
   std::ofstream(dir / "out.json") << "x,y,species,seed,scale,heading\n0,5,aspen,1,1,0\n";
-  const auto r = run_sylva("render scene.toml -o out.exr --quiet", dir);
+  const auto r = render_in(dir, "--quiet");
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("sidecar"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out.exr"));

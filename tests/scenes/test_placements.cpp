@@ -108,7 +108,7 @@ TEST_F(Placements, TomlRowsEqualTheCsvAndAnyThreadCountGivesTheSameScene) {
     tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
     serial = parse(scene("file = \"trees.csv\""));
   }
-  for (const SceneFile* other : {&rows, &serial}) {
+  for (const SceneFile* other : {&rows, static_cast<const SceneFile*>(&serial)}) {
     ASSERT_EQ(other->scene.instances.size(), csv.scene.instances.size());
     for (size_t i = 0; i < csv.scene.instances.size(); ++i) {
       const Instance &a = csv.scene.instances[i], &b = other->scene.instances[i];
@@ -149,7 +149,7 @@ TEST_F(Placements, BadRowsAreFileLineErrors) {
   // A missing list, and a TOML row naming an unknown species.
   EXPECT_NE(error_of(scene("file = \"missing.csv\"")).find("missing.csv"), std::string::npos);
   EXPECT_NE(
-      error_of(scene("rows = [\n  { x = 0, y = 0, species = \"oak\" },\n]")).find("scene.toml:11: unknown species"),
+      error_of(scene("rows = [\n  { x = 0, y = 0, species = \"oak\" },\n]")).find("scene.toml:10: unknown species"),
       std::string::npos);
 }
 

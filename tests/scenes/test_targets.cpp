@@ -323,10 +323,8 @@ position = [0, -3, 0]
       const Instance& hit = f.scene.instances[i - 1];
       EXPECT_EQ(c, hit.class_id);
       EXPECT_EQ(v, hit.variant_id);
-      if (c == aspen) EXPECT_EQ(v, 1u);
-      if (c == tupelo) EXPECT_EQ(v, 2u);
-      if (c == vehicle) EXPECT_EQ(v, 3u);
-      if (c == kClassMesh) EXPECT_EQ(v, 0u);
+      const uint32_t expected = c == aspen ? 1u : c == tupelo ? 2u : c == vehicle ? 3u : 0u;
+      EXPECT_EQ(v, expected) << "class " << c;
     }
   EXPECT_GT(seen[kClassSky], 0);
   EXPECT_GT(seen[kClassMesh], 0);
