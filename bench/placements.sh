@@ -1,16 +1,18 @@
 #!/bin/sh
 # Time to first pixel and peak memory of `sylva render` as the number of placed trees grows:
-# N trees from 20 variants (the four Weber–Penn appendix species × 5 seeds) placed by a CSV
+# N trees from 20 variants (Quaking Aspen and California Black Oak × 10 seeds each, at QUALITY) placed by a CSV
 # placement list (docs/scene_format.md [[placements]]) over a square stand, rendered at 32×18 with
 # one sample per pixel, so the wall time is the time to the first pixels (scene load, variant
 # generation, BVH build) plus a negligible render. Peak RSS from /usr/bin/time -v.
 #
 # Usage: bench/placements.sh SYLVA [N ...]      (default N: 1000 10000 100000 1000000)
+# QUALITY (environment, default 0.1) is the species' quality: the variants' size.
 # Writes its lists and scenes to a temporary directory; prints one table row per N.
 set -eu
 SYLVA=$(realpath "$1")
 shift
 COUNTS=${*:-"1000 10000 100000 1000000"}
+QUALITY=${QUALITY:-0.1}
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
@@ -22,7 +24,7 @@ for N in $COUNTS; do
 import math, sys
 n, path = int(sys.argv[1]), sys.argv[2]
 side = math.sqrt(n) * 6.0  # ~6 m spacing: ~280 trees per hectare
-species = ["aspen", "tupelo", "oak", "willow"]
+species = ["aspen", "oak"]
 state = 1
 with open(path, "w") as f:
     f.write("x,y,species,seed,scale,heading\n")
@@ -31,7 +33,7 @@ with open(path, "w") as f:
         u = (state >> 11) / 2**53
         state = (state * 6364136223846793005 + 1442695040888963407) % 2**64
         v = (state >> 11) / 2**53
-        f.write(f"{(u - 0.5) * side:.2f},{(v - 0.5) * side:.2f},{species[i % 4]},{1 + (i // 4) % 5},"
+        f.write(f"{(u - 0.5) * side:.2f},{(v - 0.5) * side:.2f},{species[i % 2]},{1 + (i // 2) % 10},"
                 f"{0.8 + 0.4 * u:.3f},{360 * v:.1f}\n")
 PY
   cat > "$WORK/scene.toml" <<TOML
@@ -61,25 +63,16 @@ file = "trees.csv"
 species = "$REPO/data/species/quaking_aspen.toml"
 bark = "bark"
 leaf = "leaf"
-quality = 0.5
-[placements.species.tupelo]
-species = "$REPO/data/species/black_tupelo.toml"
-bark = "bark"
-leaf = "leaf"
-quality = 0.5
+quality = $QUALITY
 [placements.species.oak]
 species = "$REPO/data/species/california_black_oak.toml"
 bark = "bark"
 leaf = "leaf"
-quality = 0.5
-[placements.species.willow]
-species = "$REPO/data/species/weeping_willow.toml"
-bark = "bark"
-leaf = "leaf"
-quality = 0.5
+quality = $QUALITY
 TOML
   /usr/bin/time -v "$SYLVA" render "$WORK/scene.toml" -o "$WORK/out.exr" --no-memory-check \
     >"$WORK/stdout" 2>"$WORK/stderr" || { cat "$WORK/stderr"; exit 1; }
+  grep "^scene:" "$WORK/stderr" >&2
   wall=$(sed -n 's/.*Elapsed (wall clock) time (h:mm:ss or m:ss): //p' "$WORK/stderr" |
     awk -F: '{ if (NF == 3) print $1 * 3600 + $2 * 60 + $3; else print $1 * 60 + $2 }')
   rss=$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$WORK/stderr")

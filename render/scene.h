@@ -48,6 +48,12 @@ struct Instance {
   uint32_t variant_id = 0;         // 1 + row of the scene file's variant table (a tree's species + seed); 0 = none
 };
 
+// The transform of an instance's normals: the inverse transpose of the linear part, computed per
+// hit rather than stored per instance (36 bytes each; millions of instances, bench/README.md).
+inline Mat3 normal_from_object(const Instance& inst) {
+  return glm::transpose(glm::inverse(Mat3(inst.world_from_object)));
+}
+
 struct Scene {
   std::vector<Material> materials;
   std::vector<std::string> material_names;
