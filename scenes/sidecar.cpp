@@ -138,8 +138,8 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
 
   std::string out = "{\n";
   out += "  \"format\": \"sylva-labels\",\n  \"version\": 1,\n";
-  out += fmt::format("  \"image\": {{\"file\": {}, \"width\": {}, \"height\": {}}},\n", json_string(exr.filename().string()),
-                     image.width, image.height);
+  out += fmt::format("  \"image\": {{\"file\": {}, \"width\": {}, \"height\": {}}},\n",
+                     json_string(exr.filename().string()), image.width, image.height);
   out += fmt::format("  \"scene\": {},\n  \"scene_hash\": {},\n  \"seed\": {},\n",
                      json_string(file.path.empty() ? "<default scene>" : file.path.filename().string()),
                      json_string(file.content_hash), settings.seed);
@@ -153,9 +153,9 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
   out += "  \"variants\": [";
   for (size_t i = 0; i < file.variants.size(); ++i) {
     const VariantInfo& v = file.variants[i];
-    out +=
-        fmt::format("{}\n    {{\"id\": {}, \"kind\": {}, \"name\": {}, \"source\": {}, \"seed\": {}, \"class\": {}}}",
-                    i ? "," : "", i + 1, json_string(v.kind), json_string(v.name), json_string(v.source), v.seed, v.class_id);
+    out += fmt::format(
+        "{}\n    {{\"id\": {}, \"kind\": {}, \"name\": {}, \"source\": {}, \"seed\": {}, \"class\": {}}}", i ? "," : "",
+        i + 1, json_string(v.kind), json_string(v.name), json_string(v.source), v.seed, v.class_id);
   }
   out += "\n  ],\n";
 
@@ -180,9 +180,9 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
     out += fmt::format(
         "{}\n    {{\"id\": {}, \"name\": {}, \"class\": {}, \"class_name\": {}, \"variant\": {}, \"source\": {}, "
         "\"seed\": {}, \"position\": {}, \"bounds\": {}, \"visible_pixels\": {}}}",
-        first ? "" : ",", id, json_string(object_name(id, inst)), inst.class_id, json_string(scene.class_names[inst.class_id]),
-        variant, source, seed, vec3(Vec3(inst.world_from_object[3])), bounds(entry.world),
-        v == visible.end() ? 0 : v->second.pixels);
+        first ? "" : ",", id, json_string(object_name(id, inst)), inst.class_id,
+        json_string(scene.class_names[inst.class_id]), variant, source, seed, vec3(Vec3(inst.world_from_object[3])),
+        bounds(entry.world), v == visible.end() ? 0 : v->second.pixels);
     first = false;
   }
   out += "\n  ],\n";
@@ -204,9 +204,9 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
         "{}\n    {{\"name\": {}, \"object\": {}, \"label\": {}, \"class\": {}, \"variant\": {}, \"position\": {}, "
         "\"heading\": {}, \"bounds\": {}, \"image_box\": {}, \"visible_pixels\": {}, \"unoccluded_pixels\": {}, "
         "\"visible_fraction\": {}, \"occluded_fraction\": {}}}",
-        i ? "," : "", json_string(t.name), t.object_id, json_string(scene.class_names[t.class_id]), t.class_id, t.variant_id,
-        vec3(t.position), number(t.heading_deg), bounds(objects[t.object_id].world), box, c.pixels, alone[i],
-        alone[i] > 0 ? number(fraction) : "null", alone[i] > 0 ? number(1.0 - fraction) : "null");
+        i ? "," : "", json_string(t.name), t.object_id, json_string(scene.class_names[t.class_id]), t.class_id,
+        t.variant_id, vec3(t.position), number(t.heading_deg), bounds(objects[t.object_id].world), box, c.pixels,
+        alone[i], alone[i] > 0 ? number(fraction) : "null", alone[i] > 0 ? number(1.0 - fraction) : "null");
   }
   out += "\n  ]\n}\n";
   return out;
