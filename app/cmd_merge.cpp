@@ -9,6 +9,7 @@
 #include "core/output_paths.h"
 #include "render/chunk.h"
 #include "render/session.h"
+#include "scenes/sidecar.h"
 
 #include <fmt/core.h>
 
@@ -36,7 +37,10 @@ std::string list(const std::vector<int>& v) {
 int run_merge(const MergeOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::filesystem::path> files(opt.parts.begin(), opt.parts.end());
-  const std::vector<OutputFile> outputs{{"-o", opt.exr}, {"--png", opt.png}};
+  const std::vector<OutputFile> outputs{
+      {"-o", opt.exr},
+      {"--png", opt.png},
+      {"label sidecar", opt.exr.empty() ? std::filesystem::path() : sidecar_path(opt.exr)}};
   check_outputs(outputs, files);
   const MergedParts merged = merge_partials(files, opt.partial);
   RenderRequest request = request_from_job(merged.header.job, merged.header.spp);

@@ -11,6 +11,7 @@
 #include "render/chunk.h"
 #include "render/renderer.h"
 #include "render/session.h"
+#include "scenes/sidecar.h"
 
 #include <fmt/core.h>
 
@@ -46,7 +47,9 @@ std::filesystem::path checkpoint_of(const std::filesystem::path& exr) { return c
 void check_before_rendering(const RenderOptions& opt, const RenderJob& job, const std::filesystem::path& exr,
                             const std::filesystem::path& png, bool chunk) {
   std::vector<OutputFile> outputs{{"-o", exr}};
-  if (!chunk) outputs.insert(outputs.end(), {{"--png", png}, {"checkpoint", checkpoint_of(exr)}});
+  if (!chunk)
+    outputs.insert(outputs.end(),
+                   {{"--png", png}, {"checkpoint", checkpoint_of(exr)}, {"label sidecar", sidecar_path(exr)}});
   check_outputs(outputs, job.file.inputs);
   if (!png.empty()) check_preview_view(opt.preview.view.empty() ? job.file.output.view : opt.preview.view);
   if (opt.no_memory_check) return;
@@ -208,8 +211,13 @@ int run_render(RenderOptions opt) {
   // Frames assemble the scene once per frame (and here only for the scene's output names); the
   // other renders once, here.
   std::optional<RenderJob> job;
-  if (opt.frames.empty() || opt.exr.empty() || (opt.png.empty() && opt.chunk.empty()))
+  if (opt.frames.empty() || opt.exr.empty() || (opt.png.empty() && opt.chunk.empty())) {
+    const auto load_start = std::chrono::steady_clock::now();
     job = prepare_render(opt.request);
+    if (!opt.quiet)
+      fmt::print(stderr, "scene loaded in {:.2f} s\n",
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count());
+  }
   const std::filesystem::path exr = !opt.exr.empty() ? std::filesystem::path(opt.exr) : job->file.output.exr;
   const std::filesystem::path png =
       !opt.png.empty() || !opt.chunk.empty() ? std::filesystem::path(opt.png) : job->file.output.png;

@@ -1,5 +1,7 @@
 #include "app/render_job.h"
 
+#include "scenes/sidecar.h"
+
 #include "core/error.h"
 #include "core/image.h"
 
@@ -132,6 +134,7 @@ void write_render_outputs(const Renderer& renderer, const Film& film, const Rend
   Image image = renderer.make_image(film);
   annotate_render(image, job.file, job.settings);
   write_exr(exr, image);
+  write_sidecar(sidecar_path(exr), job.file, job.settings, image, exr);
   if (png.empty()) return;
   const OutputSection& output = job.file.output;
   PreviewOptions preview;

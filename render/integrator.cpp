@@ -36,9 +36,6 @@ Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Envi
 Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
                        IntegratorSettings settings, const TransportFaults& faults)
     : scene_(scene), embree_(embree), environment_(environment), settings_(settings), faults_(faults) {
-  normal_from_object_.reserve(scene.instances.size());
-  for (const Instance& inst : scene.instances)
-    normal_from_object_.push_back(glm::transpose(glm::inverse(Mat3(inst.world_from_object))));
   for (const Prototype& p : scene.prototypes)
     for (const HalfSpaceSolid& solid : p.solids) has_media_ = has_media_ || solid.leaf_area_density > 0.0f;
 }
@@ -60,7 +57,7 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
     if (!embree_.intersect(ray, &hit)) break;
     const HalfSpaceSolid* medium = turbid_solid(hit);
     if (medium == nullptr) return 0.0f;
-    const Vec3 n = normal_from_object_[hit.instance] * hit.normal;
+    const Vec3 n = normal_from_object(scene_.instances[hit.instance]) * hit.normal;
     const bool entering = glm::dot(d, n) < 0.0f;
     // Leaving a crown: the segment since the last crossing (or the start) was inside it.
     if (!entering) optical_depth += static_cast<double>(kSphericalG * medium->leaf_area_density) * hit.t;
@@ -72,7 +69,7 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
 SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) const {
   const Instance& inst = scene_.instances[hit.instance];
   const Prototype& proto = scene_.prototypes[inst.prototype];
-  const Mat3& nfo = normal_from_object_[hit.instance];
+  const Mat3 nfo = normal_from_object(inst);
   SurfaceInteraction si;
   si.instance = hit.instance;
   si.prototype = inst.prototype;
@@ -185,7 +182,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
     }
     if (found) {
       if (const HalfSpaceSolid* medium = turbid_solid(hit)) {
-        const Vec3 n = glm::normalize(normal_from_object_[hit.instance] * hit.normal);
+        const Vec3 n = glm::normalize(normal_from_object(scene_.instances[hit.instance]) * hit.normal);
         const bool entering = glm::dot(ray.direction, n) < 0.0f;
         if (entering) {
           const Prototype& proto = scene_.prototypes[scene_.instances[hit.instance].prototype];

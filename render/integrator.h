@@ -72,8 +72,7 @@ class Integrator {
   const Environment& environment_;
   IntegratorSettings settings_;
   TransportFaults faults_;
-  std::vector<Mat3> normal_from_object_;  // per instance: inverse transpose of the linear part
-  bool has_media_ = false;                // some prototype has a turbid crown
+  bool has_media_ = false;  // some prototype has a turbid crown
 
   // The turbid crown a hit is on, or nullptr.
   const HalfSpaceSolid* turbid_solid(const RayHit& hit) const;

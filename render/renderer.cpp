@@ -80,7 +80,7 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
   for (const Prototype& p : scene.prototypes) primitives += p.triangles.triangles.size() + p.leaves.size();
   MemoryEstimate m;
   m.film_bytes = pixels * (2 * channels * 2 * sizeof(double) + sizeof(uint32_t));
-  m.image_bytes = pixels * ((3 * channels + 6) * sizeof(float) + 3 * sizeof(float) + 3);
+  m.image_bytes = pixels * ((3 * channels + 8) * sizeof(float) + 3 * sizeof(float) + 3);
   m.bvh_bytes = primitives * kBvhBytesPerPrimitive;
   return m;
 }
@@ -216,6 +216,8 @@ Image Renderer::make_image(const Film& film) const {
   add("P.Z", PixelType::Float);
   add("id.instance", PixelType::UInt);
   add("id.object", PixelType::UInt);
+  add("id.class", PixelType::UInt);
+  add("id.variant", PixelType::UInt);
   check_film(film);
   const PixelRegion& window = film.window();
   Image image = sylva::make_image(window.width(), window.height(), names);
@@ -248,7 +250,10 @@ Image Renderer::make_image(const Film& film) const {
           image.at(ix, iy, z + 3) = n.z;
           for (int i = 0; i < 3; ++i) image.at(ix, iy, z + 4 + i) = si.p[i];
           image.at(ix, iy, z + 7) = static_cast<float>(hit.instance + 1);
-          image.at(ix, iy, z + 8) = static_cast<float>(scene_.instances[hit.instance].object_id);
+          const Instance& inst = scene_.instances[hit.instance];
+          image.at(ix, iy, z + 8) = static_cast<float>(inst.object_id);
+          image.at(ix, iy, z + 9) = static_cast<float>(inst.class_id);
+          image.at(ix, iy, z + 10) = static_cast<float>(inst.variant_id);
         } else {
           image.at(ix, iy, z) = 1e10f;
           // The sky: a point 10¹⁰ m along the ray, like Z.

@@ -60,7 +60,7 @@ struct RenderStats {
 // What a render needs in memory beyond the scene description (docs/limits.md), before anything is
 // allocated: the film (sum and sum of squares as doubles for each radiance and albedo channel, and a
 // sample count per pixel), the output image (floats: mean, variance and albedo per radiance channel,
-// depth, normal, two ids) with its preview, and the BVH (an estimate per unique triangle and leaf
+// depth, normal, position, four ids) with its preview, and the BVH (an estimate per unique triangle and leaf
 // quad, measured on the shipped scenes).
 struct MemoryEstimate {
   uint64_t film_bytes = 0, image_bytes = 0, bvh_bytes = 0;
@@ -105,7 +105,8 @@ class Renderer {
   // ("albedo.<C>"), and the first-hit AOVs from a ray through each pixel centre: "Z" (camera-space
   // depth in m; 1e10 for the sky), "N.X/N.Y/N.Z" (world geometric normal facing the camera),
   // "P.X/P.Y/P.Z" (world position of the hit, m; for the sky the point 1e10 m along the ray),
-  // "id.instance" (instance index + 1, 0 = sky) and "id.object".
+  // "id.instance" (instance index + 1, 0 = sky), "id.object", "id.class" (Instance::class_id, 0 = sky)
+  // and "id.variant" (Instance::variant_id, 0 = sky or none).
   Image make_image(const Film& film) const;
 
   const RenderSettings& settings() const { return settings_; }

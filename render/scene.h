@@ -34,12 +34,31 @@ struct Prototype {
   uint32_t curve_material = 0;
 };
 
+// The fixed rows of the class table (Scene::class_names, the `id.class` AOV); species and target
+// labels follow from kFirstNamedClass in the order the scene first names them (docs/scene_format.md).
+inline constexpr uint32_t kClassSky = 0;      // no hit
+inline constexpr uint32_t kClassTerrain = 1;  // [terrain]
+inline constexpr uint32_t kClassGrass = 2;    // grass patches
+inline constexpr uint32_t kClassMesh = 3;     // [[meshes]] without a `label`
+inline constexpr uint32_t kFirstNamedClass = 4;
+
+// The largest object id: ids are written to the float AOV `id.object`, exact up to 2^24.
+inline constexpr uint32_t kMaxObjectId = 1u << 24;
+
 // A placed copy of a prototype. `world_from_object` is an affine transform.
 struct Instance {
   uint32_t prototype = 0;
   Mat4 world_from_object{1.0f};
-  uint32_t object_id = 0;  // label written to the `id.object` AOV (e.g. a class or target id); 0 = none
+  uint32_t object_id = 0;          // label written to the `id.object` AOV (e.g. a class or target id); 0 = none
+  uint32_t class_id = kClassMesh;  // row of Scene::class_names, written to `id.class`
+  uint32_t variant_id = 0;         // 1 + row of the scene file's variant table (a tree's species + seed); 0 = none
 };
+
+// The transform of an instance's normals: the inverse transpose of the linear part, computed per
+// hit rather than stored per instance (36 bytes each; millions of instances, bench/README.md).
+inline Mat3 normal_from_object(const Instance& inst) {
+  return glm::transpose(glm::inverse(Mat3(inst.world_from_object)));
+}
 
 struct Scene {
   std::vector<Material> materials;
@@ -49,6 +68,8 @@ struct Scene {
   SunDesc sun;
   SkyDesc sky;
   CameraDesc camera;
+  // The `id.class` table: row i names class i (kClassSky ... kClassMesh, then named classes).
+  std::vector<std::string> class_names{"sky", "terrain", "grass", "mesh"};
 
   uint32_t add_material(std::string name, Material material) {
     material_names.push_back(std::move(name));

@@ -8,12 +8,14 @@
 #include "core/registry.h"
 #include "core/rgb_spectrum.h"
 #include "geometry/grass.h"
+#include "geometry/ground.h"
 #include "geometry/mesh_io.h"
 #include "geometry/placement.h"
 #include "geometry/primitives.h"
 #include "geometry/terrain.h"
 #include "geometry/trees/tree_mesher.h"
 #include "scenes/forest_rasters.h"
+#include "scenes/placement_list.h"
 #include "scenes/species.h"
 #include "scenes/toml_reader.h"
 
@@ -23,6 +25,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -62,6 +65,8 @@ class SceneParser {
         {"terrain", &SceneParser::parse_terrain},
         {"grass", &SceneParser::parse_grass},
         {"vegetation", &SceneParser::parse_vegetation},
+        {"placements", &SceneParser::parse_placements},
+        {"targets", &SceneParser::parse_targets},
         {"output", &SceneParser::parse_output},
     };
     for (const std::string& name : root_.names()) {
@@ -75,6 +80,7 @@ class SceneParser {
     }
     for (const auto& [key, section] : kSections)
       if (root_.has(key)) (this->*section)(root_);
+    assign_automatic_object_ids();
     return std::move(out_);
   }
 
@@ -294,18 +300,68 @@ class SceneParser {
 
   // Places instances of a prototype: `instances = [{translate, rotate, scale, object_id}, ...]` or
   // the table's own transform.
-  void place(const Params& t, uint32_t proto) {
+  void place(const Params& t, uint32_t proto, uint32_t class_id = kClassMesh, uint32_t variant_id = 0) {
     const uint32_t object_id = static_cast<uint32_t>(t.integer("object_id", 0, 0, 1 << 24));
     const Mat4 base = transform(t);
     if (t.has("instances")) {
       for (const Params* it : t.tables("instances")) {
         it->check_keys({"translate", "rotate", "scale", "object_id"});
-        out_.scene.instances.push_back(Instance{
-            proto, transform(*it) * base, static_cast<uint32_t>(it->integer("object_id", object_id, 0, 1 << 24))});
+        out_.scene.instances.push_back(Instance{proto, transform(*it) * base,
+                                                static_cast<uint32_t>(it->integer("object_id", object_id, 0, 1 << 24)),
+                                                class_id, variant_id});
       }
     } else {
-      out_.scene.instances.push_back(Instance{proto, base, object_id});
+      out_.scene.instances.push_back(Instance{proto, base, object_id, class_id, variant_id});
     }
+  }
+
+  // The `id.class` of a name (a species or a target label): its row of the class table, added at
+  // the end the first time (docs/scene_format.md, "Label AOVs").
+  uint32_t class_of(const std::string& name) {
+    std::vector<std::string>& names = out_.scene.class_names;
+    for (size_t i = kFirstNamedClass; i < names.size(); ++i)
+      if (names[i] == name) return static_cast<uint32_t>(i);
+    names.push_back(name);
+    return static_cast<uint32_t>(names.size() - 1);
+  }
+
+  // The `id.variant` of a generated tree or target mesh, by its key (a new row the first time).
+  uint32_t variant_of(const std::string& key, VariantInfo info) {
+    auto found = variant_ids_.find(key);
+    if (found != variant_ids_.end()) return found->second;
+    out_.variants.push_back(std::move(info));
+    return variant_ids_[key] = static_cast<uint32_t>(out_.variants.size());
+  }
+
+  // Instances placed by [[placements]] and [[targets]] get object ids of their own: each recorded
+  // range holds provisional ids 1, 2, ... (one per placed tree or target), moved here above every
+  // id the file gives explicitly, in the order the ranges were placed.
+  void assign_automatic_object_ids() {
+    if (automatic_ranges_.empty()) return;
+    const std::vector<Instance>& all = out_.scene.instances;
+    uint64_t offset = 0;
+    size_t pos = 0;
+    for (const auto& [begin, end] : automatic_ranges_) {
+      for (size_t i = pos; i < begin; ++i) offset = std::max<uint64_t>(offset, all[i].object_id);
+      pos = end;
+    }
+    for (size_t i = pos; i < all.size(); ++i) offset = std::max<uint64_t>(offset, all[i].object_id);
+    for (const auto& [begin, end] : automatic_ranges_) {
+      uint32_t largest = 0;
+      for (size_t i = begin; i < end; ++i) {
+        Instance& inst = out_.scene.instances[i];
+        largest = std::max(largest, inst.object_id);
+        const uint64_t id = offset + inst.object_id;
+        if (id > kMaxObjectId)
+          root_.fail(
+              fmt::format("more than {} labelled objects: object ids must stay exact in the float AOV "
+                          "(docs/limits.md)",
+                          kMaxObjectId));
+        inst.object_id = static_cast<uint32_t>(id);
+      }
+      offset += largest;
+    }
+    for (TargetInfo& target : out_.targets) target.object_id = out_.scene.instances[target.instance].object_id;
   }
 
   // [[trees]]: a generated tree (species file + seed), meshed once per distinct (species, seed,
@@ -342,37 +398,275 @@ class SceneParser {
       if (t->has("dead_bark")) key += "|dead " + t->string("dead_bark");
       auto it = tree_prototypes_.find(key);
       if (it == tree_prototypes_.end()) {
-        TreeModel model;
-        TreeMesh mesh;
-        try {
-          model = make_species_model(species, seed, options);
-          TreeMeshOptions mesh_options;
-          mesh_options.quality = options.quality;
-          mesh_options.split_dead_stems = true;
-          mesh_options.leaves = with_leaves;
-          mesh = mesh_species_model(species, model, mesh_options);
-        } catch (const Error& e) {
-          t->fail(file.string() + ": " + e.what());
-        }
-        it = tree_prototypes_
-                 .emplace(key, add_tree_prototypes(*t, t->string("name", species.name), model, mesh, materials))
+        GeneratedTree tree = generate_tree(species, seed, options, with_leaves);
+        if (!tree.error.empty()) t->fail(file.string() + ": " + tree.error);
+        it = tree_prototypes_.emplace(key, add_tree_prototypes(*t, t->string("name", species.name), tree, materials))
                  .first;
       }
-      for (const uint32_t proto : it->second) place(*t, proto);
+      const uint32_t class_id = class_of(species.name);
+      const uint32_t variant_id = variant_of(key, {"tree", species.name, file.string(), seed, class_id});
+      for (const uint32_t proto : it->second) place(*t, proto, class_id, variant_id);
     }
   }
 
-  // The prototypes of one meshed tree: bark with the leaves of slot 0, one more per further leaf
-  // material slot, and its dead branches; in that order.
-  std::vector<uint32_t> add_tree_prototypes(const Params& t, const std::string& name, const TreeModel& model,
-                                            TreeMesh& mesh, const std::vector<uint32_t>& materials) {
+  // [[placements]]: trees from a placement list (a CSV `file`, scenes/placement_list.h, or TOML
+  // `rows`), each row x, y, species, seed, scale, heading and optional z. `species` maps the
+  // rows' species names to species files and their materials. Every distinct (species, seed) is
+  // generated once, in parallel, and added in the order first listed; each row is one instance per
+  // prototype of its variant with an object id of its own.
+  void parse_placements(const Params& root) {
+    for (const Params* t : root.tables("placements")) {
+      t->check_keys({"file", "rows", "species"});
+      if (t->has("file") == t->has("rows")) t->fail("[[placements]] needs either file = \"list.csv\" or rows = [...]");
+      const Params* kinds_table = t->table("species");
+      struct Kind {
+        std::string name;
+        const Params* table = nullptr;
+        const Species* species = nullptr;
+        std::filesystem::path file;
+        TreeOptions options;
+        bool with_leaves = true;
+        std::vector<uint32_t> materials;
+        uint32_t class_id = 0;
+      };
+      std::vector<Kind> kinds;
+      for (const std::string& name : kinds_table->names()) {
+        const Params* k = kinds_table->table(name);
+        k->check_keys({"species", "bark", "dead_bark", "leaf", "flower", "leaves", "quality"});
+        Kind kind;
+        kind.name = name;
+        kind.table = k;
+        kind.file = k->file_path("species");
+        kind.species = &load_species_once(kind.file);
+        if (std::holds_alternative<FournierGrindalParams>(kind.species->model))
+          k->fail("species",
+                  "a Fournier-Grindal species (solids) is placed with [[trees]]; placement lists take "
+                  "meshed species");
+        kind.options.quality = k->real("quality", 1.0, 0.01, 100.0);
+        if (options_.time_s) kind.options.time_s = *options_.time_s;
+        kind.with_leaves = k->boolean("leaves", true);
+        kind.materials = tree_materials(*k, *kind.species, kind.with_leaves);
+        kind.class_id = class_of(kind.species->name);
+        kinds.push_back(std::move(kind));
+      }
+      if (kinds.empty()) kinds_table->fail("[placements.species] needs at least one species: NAME = { species = ... }");
+
+      // The rows, compactly; variants keyed by (kind, seed) in first-listed order.
+      struct Row {
+        float x, y, z, scale, heading_deg;
+        uint32_t variant;
+      };
+      std::vector<Row> rows;
+      std::vector<std::pair<uint32_t, uint64_t>> variants;
+      std::map<std::pair<uint32_t, uint64_t>, uint32_t> variant_index;
+      const auto add_row = [&](const PlacementRow& r, const std::function<void(const std::string&)>& fail) {
+        uint32_t kind = 0;
+        while (kind < kinds.size() && kinds[kind].name != r.species) ++kind;
+        if (kind == kinds.size()) {
+          std::string known;
+          for (const Kind& k : kinds) known += (known.empty() ? "" : ", ") + k.name;
+          fail(fmt::format("unknown species '{}' (the [[placements]] entry names: {})", r.species, known));
+        }
+        auto [it, added] = variant_index.emplace(std::make_pair(kind, r.seed), static_cast<uint32_t>(variants.size()));
+        if (added) variants.emplace_back(kind, r.seed);
+        rows.push_back(Row{r.x, r.y, r.z, r.scale, r.heading_deg, it->second});
+      };
+      if (t->has("file")) {
+        const std::filesystem::path list = t->file_path("file");
+        for_each_placement_row(list, kMaxSceneCoordinate_m, [&](const PlacementRow& r, int line) {
+          add_row(r, [&](const std::string& what) { throw ParseError(list, line, what); });
+        });
+      } else {
+        for (const Params* r : t->tables("rows")) {
+          r->check_keys({"x", "y", "z", "species", "seed", "scale", "heading"});
+          const double m = kMaxSceneCoordinate_m;
+          const std::string species = r->string("species");
+          PlacementRow row;
+          row.x = static_cast<float>(r->number("x", 0.0, -m, m));
+          row.y = static_cast<float>(r->number("y", 0.0, -m, m));
+          row.z = static_cast<float>(r->number("z", 0.0, -m, m));
+          if (!r->has("x") || !r->has("y")) r->fail("a placement row needs x and y");
+          row.species = species;
+          row.seed = static_cast<uint64_t>(r->integer("seed", 1, 0, INT64_MAX));
+          row.scale = r->real("scale", 1.0, 1e-6, 1e4);
+          row.heading_deg = r->real("heading", 0.0, -3600.0, 3600.0);
+          add_row(row, [&](const std::string& what) { r->fail("species", what); });
+        }
+      }
+
+      // Every variant generated once, in parallel; prototypes added in the order first listed.
+      std::vector<GeneratedTree> generated(variants.size());
+      tbb::parallel_for(size_t{0}, variants.size(), [&](size_t v) {
+        const Kind& kind = kinds[variants[v].first];
+        generated[v] = generate_tree(*kind.species, variants[v].second, kind.options, kind.with_leaves);
+      });
+      std::vector<std::vector<uint32_t>> variant_protos(variants.size());
+      std::vector<uint32_t> variant_ids(variants.size());
+      for (size_t v = 0; v < variants.size(); ++v) {
+        const Kind& kind = kinds[variants[v].first];
+        const uint64_t seed = variants[v].second;
+        if (!generated[v].error.empty())
+          kind.table->fail("species", fmt::format("{} (seed {}): {}", kind.file.string(), seed, generated[v].error));
+        std::string key =
+            fmt::format("{}|{}|{}|{}|{}|{}|{}", kind.file.string(), seed, kind.options.quality, kind.options.time_s,
+                        kind.options.wind_speed, kind.options.wind_gust, kind.with_leaves);
+        for (const uint32_t m : kind.materials) key += fmt::format("|{}", m);
+        if (kind.table->has("dead_bark")) key += "|dead " + kind.table->string("dead_bark");
+        auto it = tree_prototypes_.find(key);
+        if (it == tree_prototypes_.end())
+          it = tree_prototypes_
+                   .emplace(key, add_tree_prototypes(*kind.table, kind.species->name, generated[v], kind.materials))
+                   .first;
+        generated[v] = GeneratedTree{};
+        variant_protos[v] = it->second;
+        variant_ids[v] = variant_of(key, {"tree", kind.species->name, kind.file.string(), seed, kind.class_id});
+      }
+
+      std::vector<Instance>& instances = out_.scene.instances;
+      const size_t first = instances.size();
+      size_t count = 0;
+      for (const Row& r : rows) count += variant_protos[r.variant].size();
+      instances.reserve(first + count);
+      uint32_t object = 0;
+      for (const Row& r : rows) {
+        ++object;
+        const float heading = radians(r.heading_deg);
+        const float c = std::cos(heading) * r.scale, sn = std::sin(heading) * r.scale;
+        // Translate · rotate by −heading about Z (a compass bearing turns clockwise) · scale.
+        Mat4 m(1.0f);
+        m[0] = Vec4(c, -sn, 0.0f, 0.0f);
+        m[1] = Vec4(sn, c, 0.0f, 0.0f);
+        m[2] = Vec4(0.0f, 0.0f, r.scale, 0.0f);
+        m[3] = Vec4(r.x, r.y, r.z, 1.0f);
+        const Kind& kind = kinds[variants[r.variant].first];
+        for (const uint32_t proto : variant_protos[r.variant])
+          instances.push_back(Instance{proto, m, object, kind.class_id, variant_ids[r.variant]});
+      }
+      if (object > kMaxObjectId) t->fail(fmt::format("more than {} placed trees", kMaxObjectId));
+      automatic_ranges_.emplace_back(first, instances.size());
+    }
+  }
+
+  // [[targets]]: a mesh (OBJ/PLY) for detection studies, placed by position, heading and scale,
+  // with a class `label` and a material; `ground = "snap"` (default) puts its lowest point on the
+  // highest ground (the [[meshes]] and terrain placed so far) under its footprint's centre and
+  // corners (geometry/ground.h). Each target gets an object id of its own.
+  void parse_targets(const Params& root) {
+    for (const Params* t : root.tables("targets")) {
+      t->check_keys({"name", "file", "material", "label", "position", "heading", "scale", "ground"});
+      const std::filesystem::path file = t->file_path("file");
+      const uint32_t material = material_ref(*t, "material");
+      const std::string label = t->string("label");
+      if (label.empty()) t->fail("label", "label must name the target's class, e.g. \"vehicle\"");
+      if (!t->has("position")) t->fail("[[targets]] needs position = [x, y, z]");
+      const Vec3 position = t->vec3("position", Vec3(0.0f));
+      for (int i = 0; i < 3; ++i)
+        if (!(std::abs(position[i]) <= kMaxSceneCoordinate_m))
+          t->fail("position", fmt::format("position must lie within {:g} m of the origin", kMaxSceneCoordinate_m));
+      const float heading_deg = t->real("heading", 0.0, -3600.0, 3600.0);
+      const float scale = t->real("scale", 1.0, 1e-6, 1e6);
+      const std::string ground = t->string("ground", "snap");
+      if (ground != "snap" && ground != "none") t->fail("ground", "ground must be \"snap\" or \"none\"");
+      const std::string key = fmt::format("{}|{}", file.string(), material);
+      auto it = target_prototypes_.find(key);
+      if (it == target_prototypes_.end()) {
+        Prototype p;
+        p.name = file.filename().string();
+        p.triangles = read_mesh(file);
+        if (p.triangles.triangles.empty()) t->fail("file", file.string() + ": the mesh has no triangles");
+        p.triangle_material = material;
+        it = target_prototypes_.emplace(key, out_.scene.add_prototype(std::move(p))).first;
+      }
+      const uint32_t proto = it->second;
+      const uint32_t class_id = class_of(label);
+      const uint32_t variant_id =
+          variant_of("target|" + key, {"target", out_.scene.prototypes[proto].name, file.string(), 0, class_id});
+      const float heading = radians(heading_deg);
+      const auto placed = [&](float z) {
+        Mat4 m = glm::translate(Mat4(1.0f), Vec3(position.x, position.y, z));
+        m = glm::rotate(m, -heading, Vec3(0, 0, 1));
+        return glm::scale(m, Vec3(scale));
+      };
+      float z = position.z;
+      if (ground == "snap") {
+        const TriangleMesh& mesh = out_.scene.prototypes[proto].triangles;
+        const Bounds3 at_zero = placed_bounds(mesh, placed(0.0f));
+        const std::optional<float> h = ground_height_under(at_zero);
+        if (!h)
+          t->fail("ground", fmt::format("nothing to snap to under the target at ({:g}, {:g}): no [[meshes]] or "
+                                        "terrain there (or give ground = \"none\")",
+                                        position.x, position.y));
+        z = *h - at_zero.lo.z;
+      }
+      TargetInfo info;
+      info.name = t->string("name", fmt::format("target{}", out_.targets.size() + 1));
+      info.instance = static_cast<uint32_t>(out_.scene.instances.size());
+      info.class_id = class_id;
+      info.variant_id = variant_id;
+      info.position = Vec3(position.x, position.y, z);
+      info.heading_deg = heading_deg;
+      out_.scene.instances.push_back(Instance{proto, placed(z), 1, class_id, variant_id});
+      automatic_ranges_.emplace_back(info.instance, info.instance + 1);
+      out_.targets.push_back(std::move(info));
+    }
+  }
+
+  // The ground under a footprint: the highest surface of the ground meshes ([[meshes]] and terrain:
+  // classes kClassMesh and kClassTerrain) on the vertical lines through the centre and the four
+  // corners of `footprint` (x and y), or nullopt if none meets them.
+  std::optional<float> ground_height_under(const Bounds3& footprint) {
+    if (!ground_made_) {
+      for (const Instance& inst : out_.scene.instances) {
+        if (inst.class_id != kClassMesh && inst.class_id != kClassTerrain) continue;
+        const TriangleMesh& mesh = out_.scene.prototypes[inst.prototype].triangles;
+        if (mesh.triangles.empty()) continue;
+        ground_.push_back(PlacedMesh{&mesh, inst.world_from_object, placed_bounds(mesh, inst.world_from_object)});
+      }
+      ground_made_ = true;
+    }
+    const Vec2 lo(footprint.lo), hi(footprint.hi);
+    std::optional<float> best;
+    for (const Vec2 xy : {(lo + hi) * 0.5f, lo, hi, Vec2(lo.x, hi.y), Vec2(hi.x, lo.y)}) {
+      const std::optional<float> h = highest_surface_z(ground_, xy);
+      if (h && (!best || *h > *best)) best = h;
+    }
+    return best;
+  }
+
+  // A tree made from a species and seed (TreeModel and mesh), or the message of why it could not
+  // be. Pure, so variants can be generated in parallel.
+  struct GeneratedTree {
+    TreeModel model;
+    TreeMesh mesh;
+    std::string error;
+  };
+  static GeneratedTree generate_tree(const Species& species, uint64_t seed, const TreeOptions& options,
+                                     bool with_leaves) {
+    GeneratedTree out;
+    try {
+      out.model = make_species_model(species, seed, options);
+      TreeMeshOptions mesh_options;
+      mesh_options.quality = options.quality;
+      mesh_options.split_dead_stems = true;
+      mesh_options.leaves = with_leaves;
+      out.mesh = mesh_species_model(species, out.model, mesh_options);
+    } catch (const Error& e) {
+      out.error = e.what();
+    }
+    return out;
+  }
+
+  // The prototypes of a generated tree: stems with the first leaf material slot, one more per
+  // further slot with leaves, and the dead branches (the table's `dead_bark`, else darker bark).
+  std::vector<uint32_t> add_tree_prototypes(const Params& t, const std::string& name, GeneratedTree& tree,
+                                            const std::vector<uint32_t>& materials) {
     std::vector<uint32_t> protos;
     Prototype p;
     p.name = name;
-    p.triangles = std::move(mesh.stems);
+    p.triangles = std::move(tree.mesh.stems);
     p.triangle_material = materials[0];
     for (size_t slot = 0; slot + 1 < materials.size(); ++slot) {
-      LeafQuads quads = leaves_in_slot(mesh.leaves, model.leaves, slot, materials.size() - 2);
+      LeafQuads quads = leaves_in_slot(tree.mesh.leaves, tree.model.leaves, slot, materials.size() - 2);
       if (slot > 0 && quads.size() == 0) continue;
       p.leaves = std::move(quads);
       p.leaf_material = materials[slot + 1];
@@ -380,13 +674,14 @@ class SceneParser {
       p = Prototype{};
       p.name = fmt::format("{} (leaf material {})", name, slot + 1);
     }
-    if (!mesh.dead_stems.triangles.empty()) {
+    if (!tree.mesh.dead_stems.triangles.empty()) {
       Prototype dead;
       dead.name = name + " (dead branches)";
-      dead.triangles = std::move(mesh.dead_stems);
+      dead.triangles = std::move(tree.mesh.dead_stems);
       dead.triangle_material = t.has("dead_bark") ? material_ref(t, "dead_bark") : darker_bark(materials[0]);
       protos.push_back(out_.scene.add_prototype(std::move(dead)));
     }
+    tree.model = TreeModel{};
     return protos;
   }
 
@@ -431,7 +726,9 @@ class SceneParser {
       for (const HalfSpaceSolid& solid : p.solids) p.solid_palettes.push_back(solid.material_slot == 0 ? bark : crown);
       it = tree_prototypes_.emplace(key, std::vector<uint32_t>{out_.scene.add_prototype(std::move(p))}).first;
     }
-    for (const uint32_t proto : it->second) place(t, proto);
+    const uint32_t class_id = class_of(species.name);
+    const uint32_t variant_id = variant_of(key, {"tree", species.name, species.file.string(), seed, class_id});
+    for (const uint32_t proto : it->second) place(t, proto, class_id, variant_id);
   }
 
   // Dead branches' bark when the scene names none: a copy of `bark` with its reflectance halved
@@ -589,7 +886,8 @@ class SceneParser {
     p.triangles = make_terrain_mesh(*terrain_);
     p.triangle_material = material;
     out_.scene.instances.push_back(Instance{out_.scene.add_prototype(std::move(p)), Mat4(1.0f),
-                                            static_cast<uint32_t>(t->integer("object_id", 0, 0, 1 << 24))});
+                                            static_cast<uint32_t>(t->integer("object_id", 0, 0, 1 << 24)),
+                                            kClassTerrain, 0});
   }
 
   // [[grass]]: up to three grass types (feature-map grass bits 1–3, in order), each a patch of
@@ -642,9 +940,7 @@ class SceneParser {
     struct Variant {
       size_t entry = 0;
       uint64_t seed = 0;
-      TreeModel model;
-      TreeMesh mesh;
-      std::string error;
+      GeneratedTree tree;
     };
     std::vector<SpeciesPlacement> rules;
     std::vector<Variant> variants;
@@ -678,35 +974,34 @@ class SceneParser {
       const int count = static_cast<int>(e->integer("variants", 1, 1, 1000));
       const uint64_t first_seed = static_cast<uint64_t>(e->integer("seed", 1, 0, INT64_MAX - 1000));
       for (int k = 0; k < count; ++k)
-        variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}, {}, {}});
+        variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}});
       rules.push_back(rule);
     }
     // Every variant once, in parallel; results (and the first error, in entry order) do not
     // depend on the thread count.
     tbb::parallel_for(size_t{0}, variants.size(), [&](size_t i) {
       Variant& v = variants[i];
-      try {
-        v.model = make_species_model(*species[v.entry], v.seed, options[v.entry]);
-        TreeMeshOptions mo;
-        mo.quality = options[v.entry].quality;
-        mo.split_dead_stems = true;
-        v.mesh = mesh_species_model(*species[v.entry], v.model, mo);
-      } catch (const Error& e) {
-        v.error = e.what();
-      }
+      v.tree = generate_tree(*species[v.entry], v.seed, options[v.entry], true);
     });
     std::vector<std::vector<std::vector<uint32_t>>> protos(rules.size());
+    std::vector<std::vector<uint32_t>> variant_ids(rules.size());
+    std::vector<uint32_t> class_ids;
+    for (const Species* sp : species) class_ids.push_back(class_of(sp->name));
     for (Variant& v : variants) {
       const Params& e = *entries[v.entry];
-      if (!v.error.empty()) e.fail("species", e.file_path("species").string() + ": " + v.error);
+      const std::filesystem::path file = e.file_path("species");
+      if (!v.tree.error.empty()) e.fail("species", file.string() + ": " + v.tree.error);
       // The footprint: the widest bark vertex within 10 cm of the ground (flare and lobes included).
       float radius = 0.0f;
-      for (const Vec3& p : v.mesh.stems.positions)
+      for (const Vec3& p : v.tree.mesh.stems.positions)
         if (p.z < 0.1f) radius = std::max(radius, glm::length(Vec2(p)));
       rules[v.entry].trunk_radius_m.push_back(radius);
       const std::string name = fmt::format("{} seed {}", e.string("name", species[v.entry]->name), v.seed);
-      protos[v.entry].push_back(add_tree_prototypes(e, name, v.model, v.mesh, materials[v.entry]));
-      v.model = TreeModel{};
+      protos[v.entry].push_back(add_tree_prototypes(e, name, v.tree, materials[v.entry]));
+      v.tree = GeneratedTree{};
+      variant_ids[v.entry].push_back(
+          variant_of(fmt::format("vegetation|{}|{}|{}", v.entry, file.string(), v.seed),
+                     {"tree", species[v.entry]->name, file.string(), v.seed, class_ids[v.entry]}));
     }
 
     FeatureMap map;
@@ -768,7 +1063,8 @@ class SceneParser {
       m = glm::rotate(m, tree.heading_rad, Vec3(0, 0, 1));
       m = glm::scale(m, Vec3(tree.scale));
       for (const uint32_t proto : protos[tree.species][tree.variant])
-        out_.scene.instances.push_back(Instance{proto, m, static_cast<uint32_t>(first_id + static_cast<int64_t>(i))});
+        out_.scene.instances.push_back(Instance{proto, m, static_cast<uint32_t>(first_id + static_cast<int64_t>(i)),
+                                                class_ids[tree.species], variant_ids[tree.species][tree.variant]});
     }
     std::vector<float> patch_sizes;
     for (const GrassType& g : grass_) patch_sizes.push_back(g.patch_size_m);
@@ -779,7 +1075,8 @@ class SceneParser {
       shear[1][2] = patch.slope.y;
       const Mat4 m = glm::translate(Mat4(1.0f), patch.centre_m) * shear *
                      glm::rotate(Mat4(1.0f), patch.heading_rad, Vec3(0, 0, 1));
-      out_.scene.instances.push_back(Instance{grass_[static_cast<size_t>(patch.grass_type - 1)].prototype, m, 0});
+      out_.scene.instances.push_back(
+          Instance{grass_[static_cast<size_t>(patch.grass_type - 1)].prototype, m, 0, kClassGrass, 0});
     }
   }
 
@@ -801,6 +1098,11 @@ class SceneParser {
   std::map<std::string, uint32_t> material_ids_;
   std::map<std::string, std::vector<uint32_t>> tree_prototypes_;
   std::map<std::string, Species> species_;
+  std::map<std::string, uint32_t> variant_ids_;
+  std::map<std::string, uint32_t> target_prototypes_;
+  std::vector<std::pair<size_t, size_t>> automatic_ranges_;  // instance ranges with provisional object ids
+  std::vector<PlacedMesh> ground_;                           // what [[targets]] snap onto (made on first use)
+  bool ground_made_ = false;
   uint64_t dependency_hash_ = 0;
   // [terrain]: the height field and the extent a feature map covers; [[grass]]: the patch
   // prototype and size of each grass type.

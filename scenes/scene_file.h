@@ -24,6 +24,27 @@ struct OutputSection {
   std::string view = "Standard";
 };
 
+// A row of the variant table (`id.variant` = row + 1): one generated tree (species + seed +
+// options) or one target mesh, made once and instanced.
+struct VariantInfo {
+  std::string kind;    // "tree" or "target"
+  std::string name;    // species name or target mesh name
+  std::string source;  // species file or mesh file, as resolved
+  uint64_t seed = 0;   // trees: the generator's seed
+  uint32_t class_id = 0;
+};
+
+// A [[targets]] entry as placed: its instance and labels, for the JSON sidecar (scenes/sidecar.h).
+struct TargetInfo {
+  std::string name;
+  uint32_t instance = 0;  // index in Scene::instances
+  uint32_t object_id = 0;
+  uint32_t class_id = 0;
+  uint32_t variant_id = 0;
+  Vec3 position{0.0f};  // world position of the mesh origin, after snapping
+  float heading_deg = 0;
+};
+
 struct SceneFile {
   std::filesystem::path path;  // empty for the built-in default scene
   Scene scene;
@@ -39,6 +60,8 @@ struct SceneFile {
   // Of the file text and of every file it read (docs/design.md §8, scene_hash), hex.
   std::string content_hash;
   std::vector<std::string> warnings;  // "file:line: warning: ..." from species files it reads
+  std::vector<VariantInfo> variants;  // the `id.variant` table (row i is variant i + 1)
+  std::vector<TargetInfo> targets;    // [[targets]], in file order
 };
 
 // The largest camera coordinate (m, any axis) a scene may use: single-precision rays lose their

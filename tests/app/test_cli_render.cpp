@@ -45,7 +45,7 @@ TEST(CliRender, DefaultSceneWritesExrAndPng) {
   // No temporary or checkpoint files are left behind.
   for (const auto& e : fs::directory_iterator(dir)) {
     const std::string name = e.path().filename().string();
-    EXPECT_TRUE(name == "out.exr" || name == "out.png" || name.ends_with(".txt")) << name;
+    EXPECT_TRUE(name == "out.exr" || name == "out.png" || name == "out.json" || name.ends_with(".txt")) << name;
   }
   // Labels: the objects scene (data/examples/objects.toml) has 10 instances; the target box is object 1, the trees
   // object 2.

@@ -232,7 +232,7 @@ TEST_F(RendererApi, OneEmbreeSceneSharedByTwoRenderers) {
   Film fb_alone = b_alone.make_film();
   b_alone.render(fb_alone);
   EXPECT_EQ(film_bytes(fb), film_bytes(fb_alone));
-  EXPECT_EQ(b.make_image(fb).channels.size(), 1u + 1u + 1u + 9u);  // nir.Y, var, albedo, Z, N, P, ids
+  EXPECT_EQ(b.make_image(fb).channels.size(), 1u + 1u + 1u + 11u);  // nir.Y, var, albedo, Z, N, P, four ids
 
   // An Embree scene of another scene is refused.
   const Scene other = small_forest_scene();

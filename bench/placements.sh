@@ -1,0 +1,83 @@
+#!/bin/sh
+# Time to first pixel and peak memory of `sylva render` as the number of placed trees grows:
+# N trees from 20 variants (Quaking Aspen and California Black Oak × 10 seeds each, at QUALITY) placed by a CSV
+# placement list (docs/scene_format.md [[placements]]) over a square stand, rendered at 32×18 with
+# one sample per pixel, so the wall time is the time to the first pixels (scene load, variant
+# generation, BVH build) plus a negligible render. Peak RSS from /usr/bin/time -v.
+#
+# Usage: bench/placements.sh SYLVA [N ...]      (default N: 1000 10000 100000 1000000)
+# QUALITY (environment, default 0.1) is the species' quality: the variants' size.
+# Writes its lists and scenes to a temporary directory; prints one table row per N.
+set -eu
+SYLVA=$(realpath "$1")
+shift
+COUNTS=${*:-"1000 10000 100000 1000000"}
+QUALITY=${QUALITY:-0.1}
+REPO=$(cd "$(dirname "$0")/.." && pwd)
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+
+echo "| trees | list MiB | scene load s | BVH build s | wall s (first pixel) | peak RSS MiB | B/tree |"
+echo "|---:|---:|---:|---:|---:|---:|---:|"
+for N in $COUNTS; do
+  python3 - "$N" "$WORK/trees.csv" <<'PY'
+import math, sys
+n, path = int(sys.argv[1]), sys.argv[2]
+side = math.sqrt(n) * 6.0  # ~6 m spacing: ~280 trees per hectare
+species = ["aspen", "oak"]
+state = 1
+with open(path, "w") as f:
+    f.write("x,y,species,seed,scale,heading\n")
+    for i in range(n):
+        state = (state * 6364136223846793005 + 1442695040888963407) % 2**64
+        u = (state >> 11) / 2**53
+        state = (state * 6364136223846793005 + 1442695040888963407) % 2**64
+        v = (state >> 11) / 2**53
+        f.write(f"{(u - 0.5) * side:.2f},{(v - 0.5) * side:.2f},{species[i % 2]},{1 + (i // 2) % 10},"
+                f"{0.8 + 0.4 * u:.3f},{360 * v:.1f}\n")
+PY
+  cat > "$WORK/scene.toml" <<TOML
+[render]
+width = 32
+height = 18
+spp = 1
+bands = ["rgb"]
+[camera]
+position = [0.0, -60.0, 30.0]
+target = [0.0, 0.0, 0.0]
+[materials.soil]
+reflectance = 0.2
+[materials.bark]
+reflectance = 0.3
+[materials.leaf]
+type = "leaf"
+reflectance = 0.45
+transmittance = 0.4
+[[meshes]]
+shape = "plane"
+size = [1e6, 1e6]
+material = "soil"
+[[placements]]
+file = "trees.csv"
+[placements.species.aspen]
+species = "$REPO/data/species/quaking_aspen.toml"
+bark = "bark"
+leaf = "leaf"
+quality = $QUALITY
+[placements.species.oak]
+species = "$REPO/data/species/california_black_oak.toml"
+bark = "bark"
+leaf = "leaf"
+quality = $QUALITY
+TOML
+  /usr/bin/time -v "$SYLVA" render "$WORK/scene.toml" -o "$WORK/out.exr" --no-memory-check \
+    >"$WORK/stdout" 2>"$WORK/stderr" || { cat "$WORK/stderr"; exit 1; }
+  grep "^scene:" "$WORK/stderr" >&2
+  wall=$(sed -n 's/.*Elapsed (wall clock) time (h:mm:ss or m:ss): //p' "$WORK/stderr" |
+    awk -F: '{ if (NF == 3) print $1 * 3600 + $2 * 60 + $3; else print $1 * 60 + $2 }')
+  rss=$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$WORK/stderr")
+  load=$(sed -n 's/^scene loaded in \([0-9.]*\) s.*/\1/p' "$WORK/stderr")
+  bvh=$(sed -n 's/.*BVH .* MiB in \([0-9.]*\) ms.*/\1/p' "$WORK/stderr" | awk '{ printf "%.2f", $1 / 1000 }')
+  mib=$(du -m "$WORK/trees.csv" | cut -f1)
+  echo "| $N | $mib | $load | $bvh | $wall | $((rss / 1024)) | $((rss * 1024 / N)) |"
+done
