@@ -1,12 +1,13 @@
 #pragma once
 // The renderer's scene: a backend-neutral description of geometry (prototypes and instances),
-// materials, the distant light and the camera. Built by scenes/ (assembly) and consumed by the
+// materials, the distant light, the camera and an optional haze. Built by scenes/ (assembly) and consumed by the
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
 #include "geometry/mesh.h"
 #include "geometry/solids/half_space.h"
 #include "render/lights/lights.h"
 #include "render/materials/material.h"
+#include "render/media/haze.h"
 #include "render/sensors/camera.h"
 
 #include <string>
@@ -43,6 +44,7 @@ struct Scene {
   SunDesc sun;
   SkyDesc sky;
   CameraDesc camera;
+  HazeDesc haze;  // optional atmospheric haze (render/media/haze.h); off by default
 
   uint32_t add_material(std::string name, Material material) {
     material_names.push_back(std::move(name));
