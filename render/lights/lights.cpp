@@ -47,7 +47,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
     sky_theta_max_ = !upper_hemisphere_only(sky.model) || has_ground_ ? kPi : 0.5f * kPi;
     spectral_sky_ = std::visit([](const auto& m) { return SpectralSkyModel<std::decay_t<decltype(m)>>; }, sky.model);
     std::vector<float> w(kSkyPhiBins * kSkyThetaBins);
-    double horizontal = 0;  // ∫ g cos θ dω over the upper hemisphere
+    double horizontal = 0;                            // ∫ g cos θ dω over the upper hemisphere
     std::vector<std::pair<Vec3, float>> basis_cells;  // spectral skies: (w_i(ω), cos θ dω) per upper cell
     const float dphi = kTwoPi / kSkyPhiBins, dtheta = sky_theta_max_ / kSkyThetaBins;
     for (int j = 0; j < kSkyThetaBins; ++j) {
@@ -180,7 +180,8 @@ SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths&
   if (spectral_sky_) {
     const Vec3 c = sky_basis_weights(dir);
     if (c == Vec3(0.0f)) return SampledSpectrum(0.0f);
-    const SampledSpectrum l = c.x * sky_basis_[0].eval(wl) + c.y * sky_basis_[1].eval(wl) + c.z * sky_basis_[2].eval(wl);
+    const SampledSpectrum l =
+        c.x * sky_basis_[0].eval(wl) + c.y * sky_basis_[1].eval(wl) + c.z * sky_basis_[2].eval(wl);
     return glm::max(l, SampledSpectrum(0.0f));
   }
   const float g = sky_shape(dir);

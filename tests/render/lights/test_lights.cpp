@@ -180,7 +180,6 @@ TEST(Lights, CieRelativeLuminance) {
   EXPECT_NEAR(cie_sky_relative_luminance(1, glm::normalize(Vec3(1, 0, 1e-3f)), sun), 1.0f / 3.0f, 0.01f);
 }
 
-
 // The Preetham sky (render/lights/preetham_sky.h): sampled by its luminance map, evaluated
 // spectrally; χ² at a high and a low sun.
 TEST(Lights, PreethamSkyChi2) {
@@ -261,8 +260,8 @@ TEST(Lights, PreethamSkyIsBlueOverheadWhiterAtTheHorizonAndWarmAtLowSun) {
   sun.elevation_deg = 45;
   const Environment high(sun, sky);
   const Vec3 z = sky_rgb(high, zenith), h = sky_rgb(high, north_horizon);
-  std::printf("[sky] sun 45°: zenith rgb %.4f %.4f %.4f (B/R %.2f), horizon opposite the sun B/R %.2f\n", z.x, z.y,
-              z.z, z.z / z.x, h.z / h.x);
+  std::printf("[sky] sun 45°: zenith rgb %.4f %.4f %.4f (B/R %.2f), horizon opposite the sun B/R %.2f\n", z.x, z.y, z.z,
+              z.z / z.x, h.z / h.x);
   EXPECT_GT(z.z, 1.3f * z.x) << "the zenith must be blue";
   EXPECT_GT(z.z, z.y);
   EXPECT_LT(h.z / h.x, z.z / z.x) << "the horizon must be whiter than the zenith";
