@@ -46,11 +46,15 @@ class SceneParser {
     using Section = void (SceneParser::*)(const Params&);
     // Sections in the order they are parsed (materials before the meshes and trees that use them).
     static constexpr std::pair<std::string_view, Section> kSections[] = {
-        {"render", &SceneParser::parse_render}, {"bands", &SceneParser::parse_bands},
-        {"camera", &SceneParser::parse_camera}, {"sun", &SceneParser::parse_sun},
-        {"sky", &SceneParser::parse_sky},       {"haze", &SceneParser::parse_haze},
+        {"render", &SceneParser::parse_render},
+        {"bands", &SceneParser::parse_bands},
+        {"camera", &SceneParser::parse_camera},
+        {"sun", &SceneParser::parse_sun},
+        {"sky", &SceneParser::parse_sky},
+        {"haze", &SceneParser::parse_haze},
         {"materials", &SceneParser::parse_materials},
-        {"meshes", &SceneParser::parse_meshes}, {"trees", &SceneParser::parse_trees},
+        {"meshes", &SceneParser::parse_meshes},
+        {"trees", &SceneParser::parse_trees},
         {"output", &SceneParser::parse_output},
     };
     for (const std::string& name : root_.names()) {

@@ -75,9 +75,10 @@ double Haze::optical_depth(const Vec3& o, const Vec3& d, double s0, double s1) c
   if (!segment(o, d, s_in, s_out)) return 0.0;
   const double a = std::max(s0, s_in), e = std::min(s1, s_out);
   if (!(e > a)) return 0.0;
-  const double sigma_a = desc_.profile == HazeProfile::Homogeneous
-                             ? desc_.extinction_550
-                             : desc_.extinction_550 * std::exp(-(o.z + a * d.z - desc_.base_height) / desc_.scale_height);
+  const double sigma_a =
+      desc_.profile == HazeProfile::Homogeneous
+          ? desc_.extinction_550
+          : desc_.extinction_550 * std::exp(-(o.z + a * d.z - desc_.base_height) / desc_.scale_height);
   const double b = desc_.profile == HazeProfile::Homogeneous ? 0.0 : d.z / desc_.scale_height;
   if (sigma_a == 0.0) return 0.0;
   if (std::abs(b) < 1e-12) return sigma_a * (e - a);
@@ -91,9 +92,10 @@ double Haze::distance_at_depth(const Vec3& o, const Vec3& d, double s0, double t
   const double a = std::max(s0, s_in);
   if (!(s_out > a)) return kInf;
   if (tau >= optical_depth(o, d, a, s_out)) return kInf;
-  const double sigma_a = desc_.profile == HazeProfile::Homogeneous
-                             ? desc_.extinction_550
-                             : desc_.extinction_550 * std::exp(-(o.z + a * d.z - desc_.base_height) / desc_.scale_height);
+  const double sigma_a =
+      desc_.profile == HazeProfile::Homogeneous
+          ? desc_.extinction_550
+          : desc_.extinction_550 * std::exp(-(o.z + a * d.z - desc_.base_height) / desc_.scale_height);
   const double b = desc_.profile == HazeProfile::Homogeneous ? 0.0 : d.z / desc_.scale_height;
   if (std::abs(b) < 1e-12) return a + tau / sigma_a;
   return a - std::log1p(-tau * b / sigma_a) / b;

@@ -29,12 +29,12 @@ enum class HazeProfile { Homogeneous, Exponential };
 struct HazeDesc {
   bool enabled = false;
   HazeProfile profile = HazeProfile::Homogeneous;
-  float extinction_550 = 0.0f;   // σ_550 at the base height, 1/m
-  float angstrom = 1.3f;         // α: σ ∝ λ^−α (about 1.3 for continental aerosol)
-  float albedo = 0.9f;           // single-scattering albedo ω, the same at every wavelength
-  float g = 0.7f;                // Henyey–Greenstein asymmetry, (−1, 1)
-  float base_height = 0.0f;      // z₀, m (exponential profile)
-  float scale_height = 1000.0f;  // H, m (exponential profile)
+  float extinction_550 = 0.0f;                         // σ_550 at the base height, 1/m
+  float angstrom = 1.3f;                               // α: σ ∝ λ^−α (about 1.3 for continental aerosol)
+  float albedo = 0.9f;                                 // single-scattering albedo ω, the same at every wavelength
+  float g = 0.7f;                                      // Henyey–Greenstein asymmetry, (−1, 1)
+  float base_height = 0.0f;                            // z₀, m (exponential profile)
+  float scale_height = 1000.0f;                        // H, m (exponential profile)
   float top = std::numeric_limits<float>::infinity();  // no haze above this height, m
 };
 

@@ -48,8 +48,8 @@ TEST(Haze, OpticalDepthIsTheIntegralOfExtinction) {
   const Haze flat(homogeneous(0.02f, 30.0f));
   const Haze falling(exponential(0.05f, 2.0f, 40.0f));
   const Vec3 o(1, 2, 5);
-  for (const Vec3& d : {Vec3(0, 0, 1), Vec3(0, 0, -1), glm::normalize(Vec3(1, 0, 0.3f)), glm::normalize(Vec3(0, 1, -0.2f)),
-                        Vec3(1, 0, 0)})
+  for (const Vec3& d : {Vec3(0, 0, 1), Vec3(0, 0, -1), glm::normalize(Vec3(1, 0, 0.3f)),
+                        glm::normalize(Vec3(0, 1, -0.2f)), Vec3(1, 0, 0)})
     for (const Haze* h : {&flat, &falling})
       for (const double len : {1.0, 25.0, 120.0}) {
         const double closed = h->optical_depth(o, d, 3.0, 3.0 + len);
