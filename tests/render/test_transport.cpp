@@ -178,7 +178,7 @@ TEST(Transport, TurbidSlabTransmitsBeersLaw) {
 TEST(Transport, HazeTransmitsBeerLambertPerWavelength) {
   // An absorbing haze layer (ω = 0, Ångström α = 1.3) 10 m thick above a camera looking at the
   // zenith of a uniform unit sky: each band sees ∫ w(λ) exp(−σ_550 (λ/550)^−α · 10 m) dλ (the 2°
-  // field lengthens the path by < 0.02 %). Exercises spectral tracking inside the integrator.
+  // field lengthens the path by < 0.02 %). Exercises the wavelengths' MIS weights inside the integrator.
   Scene s = furnace_scene();
   s.camera.position = {0, 0, 0};
   s.camera.target = {0, 0, 1};
