@@ -204,6 +204,8 @@ class SceneParser {
     const double top_default = h.profile == HazeProfile::Homogeneous ? 1000.0 : 1e30;
     const float top = t->real("top", top_default, -1e5, 1e30);
     h.top = top >= 1e30f ? std::numeric_limits<float>::infinity() : top;
+    if (h.profile == HazeProfile::Homogeneous && !std::isfinite(h.top))
+      t->fail("top", "a homogeneous haze needs a finite top (m)");
     t->check_unused();
   }
 

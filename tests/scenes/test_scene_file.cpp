@@ -227,6 +227,7 @@ TEST(SceneFile, EveryMistakeNamesFileAndLine) {
       {"[haze]\nvisibility = 100\ng = 1\n", "scene.toml:3: 'g' must lie in"},
       {"[haze]\nvisibility = 100\nalbedo = -0.1\n", "scene.toml:3: 'albedo' must lie in [0, 1]"},
       {"[haze]\nvisibility = 100\nheight = 3\n", "scene.toml:3: unknown key 'height'"},
+      {"[haze]\nvisibility = 100\ntop = 1e30\n", "scene.toml:3: a homogeneous haze needs a finite top"},
       {"[sky]\nmodel = \"preetham\"\nturbidity = 1\n", "scene.toml:3: 'turbidity' must lie in"},
       {"[sky]\nmodel = \"preetham\"\ntype = 3\n", "scene.toml:3: unknown key 'type'"},
       {"[materials.a]\nrgb = [0.2, 1.5, 0.1]\n", "scene.toml:2: rgb components must lie in [0, 1]"},
