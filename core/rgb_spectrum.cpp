@@ -18,6 +18,12 @@ constexpr Basis kRed = {0.1012, 0.0515, 0.0000, 0.0000, 0.0000, 0.0000, 0.8325, 
 constexpr Basis kGreen = {0.0000, 0.0000, 0.0273, 0.7937, 1.0000, 0.9418, 0.1719, 0.0000, 0.0000, 0.0025};
 constexpr Basis kBlue = {1.0000, 1.0000, 0.8916, 0.3323, 0.0000, 0.0000, 0.0003, 0.0369, 0.0483, 0.0496};
 
+// Smits §3: the smallest component is white; the middle one minus the smallest is the secondary
+// colour complementary to the smallest channel (cyan, magenta, yellow for R, G, B); the largest
+// minus the middle one is the primary of the largest channel.
+constexpr std::array<const Basis*, 3> kPrimary = {&kRed, &kGreen, &kBlue};
+constexpr std::array<const Basis*, 3> kComplement = {&kCyan, &kMagenta, &kYellow};
+
 void add(Basis& sum, const Basis& basis, double weight) {
   for (size_t i = 0; i < sum.size(); ++i) sum[i] += weight * basis[i];
 }
@@ -25,40 +31,17 @@ void add(Basis& sum, const Basis& basis, double weight) {
 }  // namespace
 
 DenseSpectrum rgb_to_reflectance(const Vec3& linear_rec709) {
-  const double r = std::clamp(static_cast<double>(linear_rec709.x), 0.0, 1.0);
-  const double g = std::clamp(static_cast<double>(linear_rec709.y), 0.0, 1.0);
-  const double b = std::clamp(static_cast<double>(linear_rec709.z), 0.0, 1.0);
-  // Smits §3: the smallest component is white; of the other two, the smaller is the secondary
-  // (the complementary of the smallest) and the rest the primary.
+  std::array<double, 3> c;
+  for (int k = 0; k < 3; ++k) c[k] = std::clamp(static_cast<double>(linear_rec709[k]), 0.0, 1.0);
+  // Channels by value; ties keep R before G before B (any order gives the same sum: the tied
+  // difference weighs its basis by 0).
+  std::array<int, 3> order = {0, 1, 2};
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return c[a] < c[b]; });
+  const int lo = order[0], mid = order[1], hi = order[2];
   Basis s{};
-  if (r <= g && r <= b) {
-    add(s, kWhite, r);
-    if (g <= b) {
-      add(s, kCyan, g - r);
-      add(s, kBlue, b - g);
-    } else {
-      add(s, kCyan, b - r);
-      add(s, kGreen, g - b);
-    }
-  } else if (g <= r && g <= b) {
-    add(s, kWhite, g);
-    if (r <= b) {
-      add(s, kMagenta, r - g);
-      add(s, kBlue, b - r);
-    } else {
-      add(s, kMagenta, b - g);
-      add(s, kRed, r - b);
-    }
-  } else {
-    add(s, kWhite, b);
-    if (r <= g) {
-      add(s, kYellow, r - b);
-      add(s, kGreen, g - r);
-    } else {
-      add(s, kYellow, g - b);
-      add(s, kRed, r - g);
-    }
-  }
+  add(s, kWhite, c[lo]);
+  add(s, *kComplement[lo], c[mid] - c[lo]);
+  add(s, *kPrimary[hi], c[hi] - c[mid]);
   std::vector<double> lambda(s.size()), value(s.size());
   constexpr double kBinNm = (720.0 - 380.0) / 10.0;
   for (size_t i = 0; i < s.size(); ++i) {

@@ -35,7 +35,12 @@ Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Envi
 
 Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
                        IntegratorSettings settings, const TransportFaults& faults)
-    : scene_(scene), embree_(embree), environment_(environment), settings_(settings), faults_(faults) {
+    : scene_(scene),
+      embree_(embree),
+      environment_(environment),
+      settings_(settings),
+      faults_(faults),
+      haze_(scene.haze) {
   for (const Prototype& p : scene.prototypes)
     for (const HalfSpaceSolid& solid : p.solids) has_media_ = has_media_ || solid.leaf_area_density > 0.0f;
 }
@@ -64,6 +69,22 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
     ray = Ray{offset_ray_origin(ray.origin + hit.t * d, entering ? -n : n), d};
   }
   return static_cast<float>(std::exp(-optical_depth));
+}
+
+void Integrator::record_first_hit(const SurfaceInteraction& si, const Bsdf& bsdf, float t, FirstHit* first) const {
+  first->hit = true;
+  first->t = t;
+  first->normal = si.ng;
+  first->instance = si.instance + 1;
+  first->object_id = scene_.instances[si.instance].object_id;
+  first->albedo = bsdf.albedo();
+}
+
+SampledSpectrum Integrator::sky_transmittance(const Vec3& o, const Vec3& d, const SampledWavelengths& wl,
+                                              uint64_t& rays) const {
+  SampledSpectrum t(medium_transmittance(o, d, rays));
+  if (haze_.enabled()) t *= haze_.transmittance(o, d, std::numeric_limits<float>::infinity(), wl);
+  return t;
 }
 
 SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) const {
@@ -140,14 +161,57 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
   float sigma_t = 0.0f;
   uint32_t medium_material = 0;
   int crossings = 0;
+  // With haze: the path's free-flight density per carried wavelength over the hero's (Haze::sample_scattering).
+  SampledSpectrum haze_ratio(1.0f);
   for (int depth = 0;; ++depth) {
     RayHit hit;
     ++rays;
     const bool found = embree_.intersect(ray, &hit);
+    const float t_surface = found ? hit.t : std::numeric_limits<float>::infinity();
+    // Free-flight sampling: a collision with a leaf before the next surface scatters the path.
+    const float s_crown = sigma_t > 0.0f ? -std::log(1.0f - rng.uniform()) / sigma_t : t_surface;
+    if (haze_.enabled()) {
+      // The haze's collision competes with the crown's and the surface (independent media: the
+      // nearer event happens; docs/radiometry.md, "Haze").
+      const float s =
+          haze_.sample_scattering(ray.origin, ray.direction, std::min(s_crown, t_surface), wl, rng, beta, haze_ratio);
+      if (s < std::numeric_limits<float>::infinity()) {
+        // The AOVs describe the first surface on the camera ray whether or not the haze scatters
+        // the path before it.
+        if (first && depth == 0 && found && !turbid_solid(hit)) {
+          const SurfaceInteraction si = interaction(ray, hit);
+          const bool front = glm::dot(-ray.direction, si.ng) > 0;
+          record_first_hit(si, Bsdf(scene_.materials[si.material], wl, front), hit.t, first);
+        }
+        if (depth + 1 > settings_.max_depth) break;
+        const Vec3 p = ray.origin + s * ray.direction;
+        const float g = haze_.desc().g;
+        const Vec2 u_light(rng.uniform(), rng.uniform());
+        const float u_select = rng.uniform();
+        if (!environment_.empty()) {
+          const LightSample ls = environment_.sample(u_light, u_select, wl);
+          if (ls.pdf > 0 && !is_black(ls.radiance) && ++rays &&
+              !embree_.occluded(p, ls.wi, std::numeric_limits<float>::infinity())) {
+            const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
+            const float w = power_heuristic(ls.pdf, phase);
+            L += beta * ls.radiance * sky_transmittance(p, ls.wi, wl, rays) * (phase * w / ls.pdf);
+          }
+        }
+        const Vec3 wi = sample_henyey_greenstein(ray.direction, g, Vec2(rng.uniform(), rng.uniform()));
+        prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
+        ray = Ray{p, wi};
+        if (depth + 1 >= settings_.rr_start_depth) {
+          const float q = std::max(0.05f, 1.0f - max_component(beta));
+          if (rng.uniform() < q) break;
+          beta /= 1.0f - q;
+        }
+        if (is_black(beta)) break;
+        continue;
+      }
+    }
     if (sigma_t > 0.0f) {
-      // Free-flight sampling: a collision with a leaf before the next surface scatters the path.
-      const float s = -std::log(1.0f - rng.uniform()) / sigma_t;
-      if (s < (found ? hit.t : std::numeric_limits<float>::infinity())) {
+      const float s = s_crown;
+      if (s < t_surface) {
         if (depth + 1 > settings_.max_depth) break;
         const Vec3 p = ray.origin + s * ray.direction;
         const Bsdf leaf(scene_.materials[medium_material], wl, true);
@@ -160,7 +224,10 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
             const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
             if (!is_black(f) && ++rays && !embree_.occluded(p, ls.wi, std::numeric_limits<float>::infinity())) {
               const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
-              L += beta * f * ls.radiance * (medium_transmittance(p, ls.wi, rays) * w / ls.pdf);
+              if (haze_.enabled())
+                L += beta * f * ls.radiance * sky_transmittance(p, ls.wi, wl, rays) * (w / ls.pdf);
+              else
+                L += beta * f * ls.radiance * (medium_transmittance(p, ls.wi, rays) * w / ls.pdf);
             }
           }
         }
@@ -213,14 +280,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
     const Vec3 ns = front ? si.ns : -si.ns;
     const Frame frame = Frame::from_z(ns);
     const Bsdf bsdf(scene_.materials[si.material], wl, front);
-    if (first && depth == 0) {
-      first->hit = true;
-      first->t = hit.t;
-      first->normal = si.ng;
-      first->instance = si.instance + 1;
-      first->object_id = scene_.instances[si.instance].object_id;
-      first->albedo = bsdf.albedo();
-    }
+    if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
     if (depth + 1 > settings_.max_depth) break;
     const Vec3 wo_local = frame.to_local(wo);
 
@@ -241,7 +301,10 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
               !embree_.occluded(shadow_origin, ls.wi, std::numeric_limits<float>::infinity())) {
             const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
             const float transmittance = has_media_ ? medium_transmittance(shadow_origin, ls.wi, rays) : 1.0f;
-            L += beta * f * std::abs(wi_local.z) * ls.radiance * (w * transmittance / ls.pdf);
+            SampledSpectrum contribution = beta * f * std::abs(wi_local.z) * ls.radiance * (w * transmittance / ls.pdf);
+            if (haze_.enabled())
+              contribution *= haze_.transmittance(shadow_origin, ls.wi, std::numeric_limits<float>::infinity(), wl);
+            L += contribution;
           }
         }
       }

@@ -1,11 +1,14 @@
 #pragma once
 // Spectral unidirectional path tracer: hero-wavelength sampling (kLambdaCount wavelengths per
 // path), next-event estimation of the sun+sky mixture with multiple importance sampling (power
-// heuristic, Veach 1997 §9.2), Russian roulette after three bounces, a maximum depth.
+// heuristic, Veach 1997 §9.2), Russian roulette after three bounces, a maximum depth. Media: the
+// turbid crowns (render/materials/leaf_medium.h) and the optional haze (render/media/haze.h), each
+// sampled by free flight; a haze collision scatters by the Henyey–Greenstein phase function.
 
 #include "core/band.h"
 #include "core/rng.h"
 #include "render/embree_scene.h"
+#include "render/media/haze.h"
 #include "render/scene.h"
 #include "render/testing/faults.h"
 
@@ -66,6 +69,9 @@ class Integrator {
   // not overlap. 1 in scenes without turbid crowns.
   float medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& rays) const;
 
+  // The crowns' transmittance times the haze's (per wavelength) along an unoccluded ray to the sky.
+  SampledSpectrum sky_transmittance(const Vec3& o, const Vec3& d, const SampledWavelengths& wl, uint64_t& rays) const;
+
  private:
   const Scene& scene_;
   const EmbreeScene& embree_;
@@ -73,7 +79,9 @@ class Integrator {
   IntegratorSettings settings_;
   TransportFaults faults_;
   bool has_media_ = false;  // some prototype has a turbid crown
+  Haze haze_;               // the scene's haze; disabled: no extra work, no random numbers
 
+  void record_first_hit(const SurfaceInteraction& si, const Bsdf& bsdf, float t, FirstHit* first) const;
   // The turbid crown a hit is on, or nullptr.
   const HalfSpaceSolid* turbid_solid(const RayHit& hit) const;
 };

@@ -1,6 +1,6 @@
 #pragma once
 // The renderer's scene: a backend-neutral description of geometry (prototypes and instances),
-// materials, the distant light and the camera. Built by scenes/ (assembly) and consumed by the
+// materials, the distant light, the camera and an optional haze. Built by scenes/ (assembly) and consumed by the
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
 #include "geometry/grass.h"
@@ -8,6 +8,7 @@
 #include "geometry/solids/half_space.h"
 #include "render/lights/lights.h"
 #include "render/materials/material.h"
+#include "render/media/haze.h"
 #include "render/sensors/camera.h"
 
 #include <string>
@@ -70,6 +71,7 @@ struct Scene {
   CameraDesc camera;
   // The `id.class` table: row i names class i (kClassSky ... kClassMesh, then named classes).
   std::vector<std::string> class_names{"sky", "terrain", "grass", "mesh"};
+  HazeDesc haze;  // optional atmospheric haze (render/media/haze.h); off by default
 
   uint32_t add_material(std::string name, Material material) {
     material_names.push_back(std::move(name));

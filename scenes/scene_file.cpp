@@ -59,6 +59,7 @@ class SceneParser {
         {"camera", &SceneParser::parse_camera},
         {"sun", &SceneParser::parse_sun},
         {"sky", &SceneParser::parse_sky},
+        {"haze", &SceneParser::parse_haze},
         {"materials", &SceneParser::parse_materials},
         {"meshes", &SceneParser::parse_meshes},
         {"trees", &SceneParser::parse_trees},
@@ -192,7 +193,37 @@ class SceneParser {
     s.spectrum *= t->real("scale", 1.0, 0.0, 1e6);
     s.ground_albedo = t->real("ground_albedo", 0.0, 0.0, 1.0);
     if (s.ground_albedo > 0 && !(s.enabled && upper_hemisphere_only(s.model)))
-      t->fail("ground_albedo", "ground_albedo needs model = \"cie\"");
+      t->fail("ground_albedo", "ground_albedo needs model = \"cie\" or \"preetham\"");
+    t->check_unused();
+  }
+
+  // [haze]: an optional participating medium below `top` (render/media/haze.h). Its extinction at
+  // 550 nm is given directly or as the meteorological visibility V (Koschmieder: σ = 3.912/V).
+  void parse_haze(const Params& root) {
+    const Params* t = root.table("haze");
+    HazeDesc& h = out_.scene.haze;
+    h.enabled = t->boolean("enabled", true);
+    const std::string profile = t->string("profile", "homogeneous");
+    if (profile == "homogeneous")
+      h.profile = HazeProfile::Homogeneous;
+    else if (profile == "exponential")
+      h.profile = HazeProfile::Exponential;
+    else
+      t->fail("profile", "haze profile must be \"homogeneous\" or \"exponential\"");
+    if (t->has("extinction") == t->has("visibility"))
+      t->fail("[haze] needs exactly one of extinction (1/m at 550 nm) or visibility (m)");
+    h.extinction_550 = t->has("extinction") ? t->real("extinction", 0.0, 0.0, 100.0)
+                                            : static_cast<float>(3.912 / t->real("visibility", 1.0, 1.0, 1e7));
+    h.angstrom = t->real("angstrom", h.angstrom, 0.0, 4.0);
+    h.albedo = t->real("albedo", h.albedo, 0.0, 1.0);
+    h.g = t->real("g", h.g, -0.99, 0.99);
+    h.base_height = t->real("base_height", h.base_height, -1e5, 1e5);
+    h.scale_height = t->real("scale_height", h.scale_height, 1.0, 1e5);
+    const double top_default = h.profile == HazeProfile::Homogeneous ? 1000.0 : 1e30;
+    const float top = t->real("top", top_default, -1e5, 1e30);
+    h.top = top >= 1e30f ? std::numeric_limits<float>::infinity() : top;
+    if (h.profile == HazeProfile::Homogeneous && !std::isfinite(h.top))
+      t->fail("top", "a homogeneous haze needs a finite top (m)");
     t->check_unused();
   }
 

@@ -45,8 +45,10 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
   float sky_power = 0;
   if (sky.enabled) {
     sky_theta_max_ = !upper_hemisphere_only(sky.model) || has_ground_ ? kPi : 0.5f * kPi;
+    spectral_sky_ = std::visit([](const auto& m) { return SpectralSkyModel<std::decay_t<decltype(m)>>; }, sky.model);
     std::vector<float> w(kSkyPhiBins * kSkyThetaBins);
-    double horizontal = 0;  // ∫ g cos θ dω over the upper hemisphere
+    double horizontal = 0;                            // ∫ g cos θ dω over the upper hemisphere
+    std::vector<std::pair<Vec3, float>> basis_cells;  // spectral skies: (w_i(ω), cos θ dω) per upper cell
     const float dphi = kTwoPi / kSkyPhiBins, dtheta = sky_theta_max_ / kSkyThetaBins;
     for (int j = 0; j < kSkyThetaBins; ++j) {
       const float theta = (j + 0.5f) * dtheta;
@@ -55,10 +57,58 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
         const float g = sky_shape(d);
         w[j * kSkyPhiBins + i] = g * std::sin(theta);
         if (d.z > 0) horizontal += g * d.z * std::sin(theta) * dphi * dtheta;
+        if (spectral_sky_ && d.z > 0) {
+          basis_cells.emplace_back(sky_basis_weights(d), d.z * std::sin(theta) * dphi * dtheta);
+        }
       }
     }
     sky_horizontal_ = horizontal;
-    if (!normalised_to_horizontal(sky.model)) {
+    if (spectral_sky_) {
+      // E_model(λ) = ∫ max(0, Σ_i w_i(ω) S_i(λ)) cos θ dω on the table (the daylight formula dips
+      // below 0 in the UV for chromaticities off the daylight locus, and the radiance is clamped
+      // there); scaled to the stated horizontal irradiance per wavelength, or in total when the
+      // model keeps its own spectrum.
+      std::visit(
+          [&](const auto& m) {
+            if constexpr (SpectralSkyModel<std::decay_t<decltype(m)>>) {
+              sky_basis_ = m.basis();
+              // Beyond 780 nm the basis is one positive factor times its 780 nm values, where every
+              // daylight spectrum is positive: there the integral is linear in the weights.
+              constexpr int kLinearFrom = 780 - static_cast<int>(kLambdaMin);
+              std::array<double, 3> linear{};
+              for (const auto& [c, dw] : basis_cells)
+                for (int k = 0; k < 3; ++k) linear[k] += static_cast<double>(c[k]) * dw;
+              DenseSpectrum model;
+              for (int i = 0; i < kLambdaSamples; ++i) {
+                double e = 0;
+                if (i <= kLinearFrom) {
+                  for (const auto& [c, dw] : basis_cells)
+                    e += std::max(0.0f, c.x * sky_basis_[0][i] + c.y * sky_basis_[1][i] + c.z * sky_basis_[2][i]) * dw;
+                } else {
+                  for (int k = 0; k < 3; ++k) e += linear[k] * sky_basis_[k][i];
+                }
+                model[i] = static_cast<float>(e);
+              }
+              DenseSpectrum scale;
+              if (m.own_spectrum) {
+                const double total = model.integral();
+                scale = DenseSpectrum::constant(total > 0 ? static_cast<float>(sky.spectrum.integral() / total) : 0.0f);
+              } else {
+                for (int i = 0; i < kLambdaSamples; ++i) scale[i] = model[i] > 0 ? sky.spectrum[i] / model[i] : 0.0f;
+              }
+              for (DenseSpectrum& b : sky_basis_) b = b * scale;
+              sky_horizontal_spectrum_ = model * scale;
+            }
+          },
+          sky.model);
+    }
+    if (spectral_sky_) {
+      // Radiance per unit relative luminance, for the mixture's sky probability and the ground.
+      const DenseSpectrum e = horizontal_irradiance_of_sky();
+      sky_radiance_ = e;
+      sky_radiance_ *= static_cast<float>(1.0 / horizontal);
+      sky_power = static_cast<float>(e.integral());
+    } else if (!normalised_to_horizontal(sky.model)) {
       sky_radiance_ = sky.spectrum;
       sky_power = static_cast<float>(sky.spectrum.integral() * kPi);
     } else {
@@ -69,7 +119,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
     if (has_ground_) {
       // L_ground = a/π · (E_sun sin(elevation) + E_sky,horizontal), uniform over the lower hemisphere;
       // its table cells are weighted by its power relative to the sky's shape units.
-      ground_radiance_ = sky.spectrum;
+      ground_radiance_ = spectral_sky_ ? horizontal_irradiance_of_sky() : sky.spectrum;
       if (sun.enabled)
         for (int i = 0; i < kLambdaSamples; ++i) ground_radiance_[i] += sun.irradiance[i] * std::max(0.0f, sun_dir.z);
       ground_radiance_ *= sky.ground_albedo * kInvPi;
@@ -91,12 +141,17 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
   }
 }
 
-DenseSpectrum Environment::horizontal_irradiance() const {
+DenseSpectrum Environment::horizontal_irradiance_of_sky() const {
   DenseSpectrum e;
-  if (sky_.enabled) {
-    e = sky_radiance_;
-    e *= static_cast<float>(sky_horizontal_);
-  }
+  if (!sky_.enabled) return e;
+  if (spectral_sky_) return sky_horizontal_spectrum_;
+  e = sky_radiance_;
+  e *= static_cast<float>(sky_horizontal_);
+  return e;
+}
+
+DenseSpectrum Environment::horizontal_irradiance() const {
+  DenseSpectrum e = horizontal_irradiance_of_sky();
   if (sun_.enabled) {
     const float cos_sun = std::max(0.0f, sun_frame_.z.z);
     for (int i = 0; i < kLambdaSamples; ++i) e[i] += sun_.irradiance[i] * cos_sun;
@@ -108,9 +163,27 @@ float Environment::sky_shape(const Vec3& dir) const {
   return std::visit([&](const auto& m) { return m.relative_radiance(dir, sky_.sun_direction); }, sky_.model);
 }
 
+Vec3 Environment::sky_basis_weights(const Vec3& dir) const {
+  return std::visit(
+      [&](const auto& m) {
+        if constexpr (SpectralSkyModel<std::decay_t<decltype(m)>>)
+          return m.basis_weights(dir, sky_.sun_direction);
+        else
+          return Vec3(0.0f);
+      },
+      sky_.model);
+}
+
 SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths& wl) const {
   if (!sky_.enabled) return SampledSpectrum(0.0f);
   if (has_ground_ && dir.z < 0) return ground_radiance_.eval(wl);
+  if (spectral_sky_) {
+    const Vec3 c = sky_basis_weights(dir);
+    if (c == Vec3(0.0f)) return SampledSpectrum(0.0f);
+    const SampledSpectrum l =
+        c.x * sky_basis_[0].eval(wl) + c.y * sky_basis_[1].eval(wl) + c.z * sky_basis_[2].eval(wl);
+    return glm::max(l, SampledSpectrum(0.0f));
+  }
   const float g = sky_shape(dir);
   return g > 0 ? g * sky_radiance_.eval(wl) : SampledSpectrum(0.0f);
 }

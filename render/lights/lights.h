@@ -9,8 +9,10 @@
 #include "core/sampling.h"
 #include "core/spectrum.h"
 #include "render/lights/cie_sky.h"
+#include "render/lights/preetham_sky.h"
 #include "render/lights/uniform_sky.h"
 
+#include <array>
 #include <variant>
 
 namespace sylva {
@@ -33,8 +35,19 @@ struct SunDesc {
 //   static M create(const Params&);                     // reads its own parameters
 //   DenseSpectrum default_spectrum() const;
 //   float relative_radiance(dir, sun_dir) const;        // the directional shape g(ω)
+// A spectral model (its colour varies over the dome) also provides
+//   Vec3 basis_weights(dir, sun_dir) const;             // radiance = Σ w_i · basis()[i](λ)
+//   std::array<DenseSpectrum, 3> basis() const;
+//   bool own_spectrum;                                   // keep its own spectral shape (else match `spectrum`)
+// and is sampled by its relative_radiance (luminance) map, evaluated spectrally.
 // Adding a sky = its header + one entry in the variant below.
-using SkyModel = std::variant<CieSky, UniformSky>;
+using SkyModel = std::variant<CieSky, UniformSky, PreethamSky>;
+
+template <class M>
+concept SpectralSkyModel = requires(const M& m, const Vec3& d) {
+  { m.basis_weights(d, d) } -> std::same_as<Vec3>;
+  m.basis();
+};
 
 inline bool normalised_to_horizontal(const SkyModel& m) {
   return std::visit([](const auto& s) { return std::decay_t<decltype(s)>::kNormalisedToHorizontal; }, m);
@@ -46,8 +59,9 @@ inline bool upper_hemisphere_only(const SkyModel& m) {
 struct SkyDesc {
   bool enabled = true;
   SkyModel model = CieSky{};
-  // Normalised models (CIE): the diffuse irradiance on a horizontal surface, W·m⁻²·nm⁻¹; the sky's
-  // radiance is this spectrum times the relative distribution, normalised to match it.
+  // Normalised models (CIE, Preetham): the diffuse irradiance on a horizontal surface, W·m⁻²·nm⁻¹;
+  // the sky's radiance is this spectrum times the relative distribution, normalised to match it
+  // (Preetham: per wavelength, or in total when it keeps its own spectrum; preetham_sky.h).
   // Others (uniform): the radiance itself (W·m⁻²·sr⁻¹·nm⁻¹) in every direction.
   DenseSpectrum spectrum = astm_g173_diffuse();
   // Upper-hemisphere models only: below the horizon, a Lambertian ground of this albedo lit by the
@@ -89,8 +103,10 @@ class Environment {
   float sun_one_minus_cos() const { return sun_one_minus_cos_; }
   // Probability that sample() draws from the sun (else the sky).
   float sun_selection_probability() const { return p_sun_; }
-  // Sky radiance spectrum for relative luminance 1.
+  // Sky radiance spectrum for relative luminance 1 (models whose colour does not vary).
   const DenseSpectrum& sky_radiance_scale() const { return sky_radiance_; }
+  // Whether the sky's spectrum varies with direction (a SpectralSkyModel).
+  bool spectral_sky() const { return spectral_sky_; }
   // Spectral irradiance on an upward-facing horizontal plane from the sun and the sky above the
   // horizon, W·m⁻²·nm⁻¹ (docs/radiometry.md): the sun disc gives E_sun · max(0, cos θ_sun) (exact
   // for a uniform disc above the horizon: ∫_disc ω dω = axis · π sin²α), the sky its radiance
@@ -100,6 +116,8 @@ class Environment {
 
  private:
   float sky_shape(const Vec3& dir) const;
+  DenseSpectrum horizontal_irradiance_of_sky() const;
+  Vec3 sky_basis_weights(const Vec3& dir) const;
   float sky_pdf(const Vec3& dir) const;
 
   SunDesc sun_;
@@ -109,6 +127,10 @@ class Environment {
   DenseSpectrum sun_radiance_;
   DenseSpectrum sky_radiance_;
   double sky_horizontal_ = 0;  // ∫_{z>0} g(ω) cos θ dω, sr
+  // Spectral models: the normalised basis spectra, and the sky's horizontal irradiance.
+  bool spectral_sky_ = false;
+  std::array<DenseSpectrum, 3> sky_basis_;
+  DenseSpectrum sky_horizontal_spectrum_;
   bool has_ground_ = false;
   DenseSpectrum ground_radiance_;    // uniform radiance below the horizon when has_ground_
   Distribution2D sky_distribution_;  // u = φ/2π, v = θ/θ_max

@@ -16,7 +16,8 @@ struct DiffuseMaterial {
 
   DenseSpectrum reflectance;
 
-  // Reads `reflectance`; throws ParseError for a missing or unphysical spectrum.
+  // Reads `reflectance`, or `rgb` (linear sRGB, Smits up-sampling); throws ParseError for a missing or
+  // unphysical spectrum.
   static DiffuseMaterial create(const std::string& name, const Params& params);
   // The reflected and transmitted spectra at the carried wavelengths.
   void lobes(const SampledWavelengths& wl, bool front, SampledSpectrum& reflect, SampledSpectrum& transmit) const;

@@ -48,7 +48,7 @@ TEST_P(Golden, MatchesReferenceAndDeterminismHash) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, Golden,
-                         ::testing::Values("alpha_shadows", "grass_terrain", "ground_sky", "ground_sun", "instancing",
+                         ::testing::Values("alpha_shadows", "grass_terrain", "ground_sky", "ground_sun", "haze", "instancing",
                                            "leaf_below", "silhouette_aspen_full", "silhouette_aspen_stems",
                                            "silhouette_oak_full", "silhouette_oak_stems", "silhouette_tupelo_full",
                                            "silhouette_tupelo_stems", "silhouette_willow_full",
@@ -58,7 +58,7 @@ INSTANTIATE_TEST_SUITE_P(All, Golden,
 
 TEST(GoldenSuite, EveryCaseIsListed) {
   // A case added under golden/scenes must be added to the list above.
-  EXPECT_EQ(list_golden_cases(kGolden).size(), 21u);
+  EXPECT_EQ(list_golden_cases(kGolden).size(), 22u);
 }
 
 void expect_rejected(const std::string& name, const std::string& fault, const GoldenCheck& r) {

@@ -220,11 +220,68 @@ TEST(SceneFile, EveryMistakeNamesFileAndLine) {
       {"[render]\nwidth = 8\nbands = [\"rgb\", \"nir\", \"rgb\"]\n", "scene.toml:3: band 'rgb' is listed twice"},
       {"[camera]\nposition = [1e30, 0, 0]\n", "scene.toml:2: camera position must lie within 1e+07 m"},
       {"[camera]\ntarget = [0, -1e30, 0]\n", "scene.toml:2: camera target must lie within 1e+07 m"},
+      // Issue 9/10: haze, the Preetham sky, RGB colours.
+      {"[haze]\nprofile = \"fog\"\nextinction = 0.01\n", "scene.toml:2: haze profile must be"},
+      {"[haze]\nalbedo = 0.9\n", "scene.toml:1: [haze] needs exactly one of extinction"},
+      {"[haze]\nextinction = 0.01\nvisibility = 100\n", "scene.toml:1: [haze] needs exactly one of extinction"},
+      {"[haze]\nvisibility = 100\ng = 1\n", "scene.toml:3: 'g' must lie in"},
+      {"[haze]\nvisibility = 100\nalbedo = -0.1\n", "scene.toml:3: 'albedo' must lie in [0, 1]"},
+      {"[haze]\nvisibility = 100\nheight = 3\n", "scene.toml:3: unknown key 'height'"},
+      {"[haze]\nvisibility = 100\ntop = 1e30\n", "scene.toml:3: a homogeneous haze needs a finite top"},
+      {"[sky]\nmodel = \"preetham\"\nturbidity = 1\n", "scene.toml:3: 'turbidity' must lie in"},
+      {"[sky]\nmodel = \"preetham\"\ntype = 3\n", "scene.toml:3: unknown key 'type'"},
+      {"[materials.a]\nrgb = [0.2, 1.5, 0.1]\n", "scene.toml:2: rgb components must lie in [0, 1]"},
+      {"[materials.a]\nrgb = [0.2, 0.5, 0.1]\nreflectance = 0.5\n", "needs a reflectance spectrum or an rgb colour"},
   };
   for (const BadCase& c : cases) {
     const std::string msg = error_of(c.text);
     EXPECT_NE(msg.find(c.expected), std::string::npos) << "input:\n" << c.text << "\nmessage: " << msg;
   }
+}
+
+TEST(SceneFile, HazeSpectralSkyAndRgbColours) {
+  const SceneFile f = parse_scene(R"(
+[sky]
+model = "preetham"
+turbidity = 4.5
+
+[haze]
+profile = "exponential"
+visibility = 391.2
+scale_height = 50
+angstrom = 1.0
+g = 0.5
+
+[materials.paint]
+rgb = [0.1, 0.4, 0.8]
+)",
+                                  "scene.toml", SYLVA_SOURCE_DIR "/data/examples");
+  const PreethamSky* sky = std::get_if<PreethamSky>(&f.scene.sky.model);
+  ASSERT_NE(sky, nullptr);
+  EXPECT_FLOAT_EQ(sky->turbidity, 4.5f);
+  EXPECT_TRUE(sky->own_spectrum);
+  const HazeDesc& h = f.scene.haze;
+  EXPECT_TRUE(h.enabled);
+  EXPECT_EQ(h.profile, HazeProfile::Exponential);
+  EXPECT_NEAR(h.extinction_550, 0.01f, 1e-7f);
+  EXPECT_FLOAT_EQ(h.scale_height, 50.0f);
+  EXPECT_FLOAT_EQ(h.angstrom, 1.0f);
+  EXPECT_FLOAT_EQ(h.g, 0.5f);
+  EXPECT_TRUE(std::isinf(h.top));
+  // Without [haze] there is none; a homogeneous haze has a 1 km top by default.
+  EXPECT_FALSE(parse_scene("", "scene.toml", SYLVA_SOURCE_DIR "/data/examples").scene.haze.enabled);
+  EXPECT_FLOAT_EQ(
+      parse_scene("[haze]\nextinction = 0.002\n", "scene.toml", SYLVA_SOURCE_DIR "/data/examples").scene.haze.top,
+      1000.0f);
+  // The rgb colour became a Smits spectrum: bluish, bounded.
+  const DiffuseMaterial* paint = std::get_if<DiffuseMaterial>(&f.scene.materials.back());
+  ASSERT_NE(paint, nullptr);
+  EXPECT_GT(paint->reflectance.eval(450.0f), paint->reflectance.eval(650.0f));
+  EXPECT_LE(paint->reflectance.max_value(), 1.0f);
+  // A stated sky spectrum switches the Preetham sky to per-wavelength matching.
+  const SceneFile stated =
+      parse_scene("[sky]\nmodel = \"preetham\"\nspectrum = 0.5\n", "scene.toml", SYLVA_SOURCE_DIR "/data/examples");
+  EXPECT_FALSE(std::get<PreethamSky>(stated.scene.sky.model).own_spectrum);
 }
 
 TEST(SceneFile, CustomBandsResolveBeforeBuiltIns) {

@@ -41,25 +41,29 @@ inline Chi2Result chi2_directions(const DirectionChi2& cfg, const std::function<
     else
       observed[cell(d)] += 1;
   }
-  // Each cell has area (2/nt)(2π/np) in (cos θ, φ) = solid angle; integrate pdf by midpoint rule.
+  // Integrate the pdf over each cell by the midpoint rule in (θ, φ) with dω = sin θ dθ dφ, so a pdf
+  // with a 1/sin θ factor (tabulated in θ, like the sky's) is integrated accurately at the poles.
   const int k = cfg.integration_res;
   double total = 0;
-  for (int t = 0; t < nt; ++t)
+  for (int t = 0; t < nt; ++t) {
+    const double theta_top = std::acos(std::min(1.0, -1.0 + 2.0 * (t + 1) / nt));
+    const double theta_bottom = std::acos(std::max(-1.0, -1.0 + 2.0 * t / nt));
+    const double dtheta = (theta_bottom - theta_top) / k, dphi = 2.0 * M_PI / np / k;
     for (int p = 0; p < np; ++p) {
       double sum = 0;
       for (int a = 0; a < k; ++a)
         for (int b = 0; b < k; ++b) {
-          const double z = -1.0 + 2.0 * (t + (a + 0.5) / k) / nt;
+          const double theta = theta_top + (a + 0.5) * dtheta;
           const double ph = 2.0 * M_PI * (p + (b + 0.5) / k) / np;
-          const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-          sum += pdf(
-              Vec3(static_cast<float>(s * std::cos(ph)), static_cast<float>(s * std::sin(ph)), static_cast<float>(z)));
+          const double s = std::sin(theta), z = std::cos(theta);
+          sum += s * pdf(Vec3(static_cast<float>(s * std::cos(ph)), static_cast<float>(s * std::sin(ph)),
+                              static_cast<float>(z)));
         }
-      const double area = (2.0 / nt) * (2.0 * M_PI / np);
-      const double e = sum / (k * k) * area * cfg.samples;
+      const double e = sum * dtheta * dphi * cfg.samples;
       expected[static_cast<size_t>(t) * np + p] = e;
       total += e;
     }
+  }
   expected[lost] = std::max(0.0, cfg.samples - total);
   return chi2_test(observed, expected);
 }

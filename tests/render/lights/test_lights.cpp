@@ -1,5 +1,6 @@
 // Sun and sky: χ² of the mixture sampler against its pdf, normalisation, CIE luminance.
 
+#include "core/band.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "render/lights/lights.h"
@@ -10,7 +11,7 @@
 namespace sylva {
 namespace {
 
-const double kAlpha = sidak_alpha(0.01, 5);  // five χ² tests in this file
+const double kAlpha = sidak_alpha(0.01, 7);  // seven χ² tests in this file
 
 Chi2Result chi2_environment(const Environment& env, uint64_t seed) {
   Pcg32 rng(seed);
@@ -177,6 +178,116 @@ TEST(Lights, CieRelativeLuminance) {
   EXPECT_GT(cie_sky_relative_luminance(12, near_sun, sun), 2.0f * cie_sky_relative_luminance(12, away, sun));
   // Overcast (1): three times brighter at the zenith than at the horizon (Moon & Spencer).
   EXPECT_NEAR(cie_sky_relative_luminance(1, glm::normalize(Vec3(1, 0, 1e-3f)), sun), 1.0f / 3.0f, 0.01f);
+}
+
+// The Preetham sky (render/lights/preetham_sky.h): sampled by its luminance map, evaluated
+// spectrally; χ² at a high and a low sun.
+TEST(Lights, PreethamSkyChi2) {
+  for (const float elevation : {50.0f, 4.0f}) {
+    SunDesc sun;
+    sun.enabled = false;
+    sun.azimuth_deg = 120;
+    sun.elevation_deg = elevation;
+    SkyDesc sky;
+    sky.model = PreethamSky{};
+    const auto r = chi2_environment(Environment(sun, sky), 21 + static_cast<uint64_t>(elevation));
+    EXPECT_GT(r.p_value, kAlpha) << "sun elevation " << elevation << " chi2 " << r.statistic << " dof " << r.dof;
+  }
+}
+
+// ∫ L(ω, λ) cos θ dω over the upper hemisphere at one wavelength, by a fine midpoint rule.
+double horizontal_from_radiance(const Environment& env, float lambda_nm) {
+  SampledWavelengths wl;
+  wl.lambda_nm = SampledSpectrum(lambda_nm);
+  double e = 0;
+  constexpr int nt = 300, np = 600;
+  for (int j = 0; j < nt; ++j)
+    for (int i = 0; i < np; ++i) {
+      const double theta = (j + 0.5) * M_PI / 2 / nt, phi = (i + 0.5) * 2 * M_PI / np;
+      const Vec3 d = spherical_direction(float(std::sin(theta)), float(std::cos(theta)), float(phi));
+      e += env.eval_sky(d, wl).x * std::cos(theta) * std::sin(theta) * (M_PI / 2 / nt) * (2 * M_PI / np);
+    }
+  return e;
+}
+
+TEST(Lights, PreethamHorizontalIrradianceMatchesItsSpectrum) {
+  SunDesc sun;
+  sun.enabled = false;
+  for (const float elevation : {60.0f, 25.0f, 5.0f}) {
+    sun.elevation_deg = elevation;
+    // A stated spectrum: matched at every wavelength, visible and near infrared.
+    SkyDesc stated;
+    stated.model = PreethamSky{3.0f, false};
+    const Environment env(sun, stated);
+    for (const float lambda : {350.0f, 450.0f, 550.0f, 680.0f, 865.0f, 1250.0f, 1650.0f, 2200.0f}) {
+      const double expected = stated.spectrum.eval(lambda);
+      EXPECT_NEAR(horizontal_from_radiance(env, lambda), expected, 0.01 * expected)
+          << "elevation " << elevation << " λ " << lambda;
+      EXPECT_NEAR(env.horizontal_irradiance().eval(lambda), expected, 1e-4 * expected);
+    }
+    // Its own spectrum: the 300–2500 nm total equals ASTM G173 diffuse's, and the radiance
+    // integrates to the reported horizontal irradiance at every wavelength.
+    SkyDesc own;
+    own.model = PreethamSky{3.0f, true};
+    const Environment env_own(sun, own);
+    const DenseSpectrum e = env_own.horizontal_irradiance();
+    EXPECT_NEAR(e.integral(), own.spectrum.integral(), 1e-4 * own.spectrum.integral());
+    for (const float lambda : {450.0f, 650.0f, 1050.0f})
+      EXPECT_NEAR(horizontal_from_radiance(env_own, lambda), e.eval(lambda), 0.01 * e.eval(lambda));
+  }
+}
+
+// Linear Rec.709 R, G, B of the sky radiance in direction `d` through the renderer's rgb band.
+Vec3 sky_rgb(const Environment& env, const Vec3& d) {
+  static const Band rgb = make_rgb_band();
+  Vec3 c(0.0f);
+  for (int i = 0; i < kLambdaSamples; i += 2) {
+    SampledWavelengths wl;
+    wl.lambda_nm = SampledSpectrum(DenseSpectrum::grid_lambda(i));
+    const float l = env.eval_sky(d, wl).x;
+    for (int k = 0; k < 3; ++k) c[k] += 2.0f * l * rgb.weights[static_cast<size_t>(k)][i];
+  }
+  return c;
+}
+
+TEST(Lights, PreethamSkyIsBlueOverheadWhiterAtTheHorizonAndWarmAtLowSun) {
+  SunDesc sun;
+  sun.enabled = false;
+  sun.azimuth_deg = 180;
+  SkyDesc sky;
+  sky.model = PreethamSky{};
+  const Vec3 zenith(0, 0, 1), north_horizon = glm::normalize(Vec3(0, 1, 0.05f));
+  sun.elevation_deg = 45;
+  const Environment high(sun, sky);
+  const Vec3 z = sky_rgb(high, zenith), h = sky_rgb(high, north_horizon);
+  std::printf("[sky] sun 45°: zenith rgb %.4f %.4f %.4f (B/R %.2f), horizon opposite the sun B/R %.2f\n", z.x, z.y, z.z,
+              z.z / z.x, h.z / h.x);
+  EXPECT_GT(z.z, 1.3f * z.x) << "the zenith must be blue";
+  EXPECT_GT(z.z, z.y);
+  EXPECT_LT(h.z / h.x, z.z / z.x) << "the horizon must be whiter than the zenith";
+  // The sky beside a low sun is redder than beside a high one.
+  const Vec3 near_high = sky_rgb(high, sun_direction(180, 45 + 10));
+  sun.elevation_deg = 3;
+  const Environment low(sun, sky);
+  const Vec3 near_low = sky_rgb(low, sun_direction(180, 3 + 10));
+  std::printf("[sky] beside the sun B/R: sun at 45° %.2f, sun at 3° %.2f\n", near_high.z / near_high.x,
+              near_low.z / near_low.x);
+  EXPECT_LT(near_low.z / near_low.x, 0.8f * near_high.z / near_high.x);
+}
+
+TEST(Lights, PreethamChromaticityMatchesThePaper) {
+  // Preetham et al. 1999, Appendix A.2 by hand at T = 2, θs = 30°: the zenith chromaticity.
+  const float ts = radians(30.0f), t = 2.0f;
+  const float xz = t * t * (0.00166f * ts * ts * ts - 0.00375f * ts * ts + 0.00209f * ts) +
+                   t * (-0.02903f * ts * ts * ts + 0.06377f * ts * ts - 0.03202f * ts + 0.00394f) +
+                   (0.11693f * ts * ts * ts - 0.21196f * ts * ts + 0.06052f * ts + 0.25886f);
+  const Vec3 xyY = preetham_xyY(t, Vec3(0, 0, 1), sun_direction(0, 60));
+  EXPECT_NEAR(xyY.x, xz, 1e-5f);
+  EXPECT_NEAR(xyY.z, 1.0f, 1e-5f);
+  EXPECT_GT(xyY.x, 0.2f);
+  EXPECT_LT(xyY.x, 0.3f);
+  // Below the horizon nothing.
+  EXPECT_EQ(preetham_xyY(t, glm::normalize(Vec3(1, 0, -0.1f)), sun_direction(0, 60)), Vec3(0.0f));
 }
 
 }  // namespace
