@@ -99,8 +99,9 @@ void tree_bounds(const HartBakerTree& tree, const HartBakerParams& params, Vec3&
 std::string frame_scene_text(const Vec3& lo, const Vec3& hi) {
   const Vec3 centre = 0.5f * (lo + hi);
   const float radius = 0.5f * glm::length(hi - lo);
-  const float distance = 1.05f * radius / std::sin(radians(0.5f * kFrameVfovDeg));
-  const Vec3 eye = centre + distance * glm::normalize(Vec3(-0.55f, -0.8f, 0.2f));
+  // Close enough that the box's bounding sphere just fits the frame's height, nearly level.
+  const float distance = 0.9f * radius / std::sin(radians(0.5f * kFrameVfovDeg));
+  const Vec3 eye = centre + distance * glm::normalize(Vec3(-0.55f, -0.8f, 0.08f));
   return fmt::format(
       "[render]\nwidth = {}\nheight = {}\nspp = {}\nbands = [\"rgb\"]\n[output]\nview = \"ACES\"\n"
       "[camera]\nposition = [{}, {}, {}]\ntarget = [{}, {}, {}]\nvfov = {}\n"
