@@ -71,9 +71,6 @@ void add_limb(HartBakerTree& t, int32_t parent, uint8_t order, const Vec3& base,
   t.reaction_m.push_back(Vec3(0.0f));
 }
 
-// The radius a limb's base is drawn with: R_i plus its reaction wood (eq. 31 at t = 0).
-float drawn_base_radius(const HartBakerTree& t, size_t i) { return t.radius_m[i] + glm::length(t.reaction_m[i]); }
-
 void kill_subtree(HartBakerTree& t, const std::vector<std::vector<int32_t>>& children, int32_t id) {
   std::vector<int32_t> stack{id};
   while (!stack.empty()) {
@@ -425,8 +422,8 @@ TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams
                                    : tree.base[i] + tree.direction[i] * tree.length_m[i]);
     sec.frames.push_back(f);
     sec.frames.push_back(f);
-    sec.radius_m.push_back(drawn_base_radius(tree, i));
-    sec.radius_m.push_back(joined ? drawn_base_radius(tree, static_cast<size_t>(apex)) : tree.tip_radius(i, params));
+    sec.radius_m.push_back(tree.radius_m[i]);
+    sec.radius_m.push_back(joined ? tree.radius_m[static_cast<size_t>(apex)] : tree.tip_radius(i, params));
     sec.arc_m.push_back(0.0f);
     sec.arc_m.push_back(tree.length_m[i]);
   }

@@ -207,9 +207,10 @@ TreeLeaves hart_baker_leaves(const HartBakerTree& tree, const HartBakerParams& p
 
 // The state as a TreeModel: one stem per living limb (base and tip sections; `stem` of each leaf
 // maps to the stem index, not the limb id), so the shared mesher turns it into tubes and leaves.
-// The base section carries the limb's reaction wood (§5.1, eq. 31): its centre moves by the ring
-// centre's offset and its radius grows by as much, so the side ŷ stands out by the eccentric growth
-// and the other side stays at R_i; the tip section is the base section of the limb's continuation,
+// The base section carries the limb's reaction wood (§5.1, eq. 31): it is the outer ring, radius
+// R_i centred on the ring centre's offset, so the side ŷ stands out by the offset and the other
+// side falls back by as much (eq. 31's bulge of Δr = twice the offset on a concentric core of
+// R_i − offset, as the rings show it); the tip section is the base section of the continuation,
 // so the yearly segments of an axis join without a step in radius or centre (docs/hart_baker.md
 // "Surface").
 TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams& params);
