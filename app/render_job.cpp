@@ -136,7 +136,11 @@ void write_render_outputs(const Renderer& renderer, const Film& film, const Rend
   write_exr(exr, image);
   write_sidecar(sidecar_path(exr), job.file, job.settings, image, exr);
   if (png.empty()) return;
-  const OutputSection& output = job.file.output;
+  write_render_preview(renderer, image, job.file.output, png, overrides);
+}
+
+void write_render_preview(const Renderer& renderer, const Image& image, const OutputSection& output,
+                          const std::filesystem::path& png, const PreviewOverrides& overrides) {
   PreviewOptions preview;
   if (image.find_channel("R") < 0) {
     const std::string grey = renderer.radiance_channels().front();

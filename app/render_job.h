@@ -56,4 +56,9 @@ void write_render_outputs(const Renderer& renderer, const Film& film, const Rend
                           const std::filesystem::path& exr, const std::filesystem::path& png,
                           const PreviewOverrides& preview);
 
+// The PNG preview alone of an image made by `renderer` (the visible band, else its first band as
+// grey), with the scene's [output] view and exposure.
+void write_render_preview(const Renderer& renderer, const Image& image, const OutputSection& output,
+                          const std::filesystem::path& png, const PreviewOverrides& overrides);
+
 }  // namespace sylva

@@ -39,7 +39,18 @@ TEST(CliGrow, WritesEveryOutput) {
   const std::string csv = read_text(dir / "rings.csv");
   EXPECT_EQ(csv.rfind("year,radius_m,", 0), 0u);
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);  // header + one ring a year
-  for (int y = 1; y <= 6; ++y) EXPECT_TRUE(fs::exists(dir / "frames" / ("year_00" + std::to_string(y) + ".obj")));
+  // One OBJ and one path-traced preview per year, and nothing else.
+  int pngs = 0, objs = 0;
+  for (const auto& e : fs::directory_iterator(dir / "frames")) {
+    pngs += e.path().extension() == ".png";
+    objs += e.path().extension() == ".obj";
+  }
+  EXPECT_EQ(pngs, 6);
+  EXPECT_EQ(objs, 6);
+  for (int y = 1; y <= 6; ++y) {
+    EXPECT_TRUE(fs::exists(dir / "frames" / ("year_00" + std::to_string(y) + ".obj")));
+    EXPECT_GT(fs::file_size(dir / "frames" / ("year_00" + std::to_string(y) + ".png")), 1000u);
+  }
   EXPECT_EQ(read_text(dir / "t.hbtree").rfind("sylva-hart-baker-state 1\nspecies small.toml\nseed 4\nyear 6\n", 0), 0u);
   for (const auto& e : fs::directory_iterator(dir)) EXPECT_NE(e.path().filename().string().rfind(".sylva-", 0), 0u);
 }
@@ -105,6 +116,15 @@ TEST(CliGrow, BadInputIsFileLineAndExitTwo) {
   EXPECT_FALSE(fs::exists(dir / "r.png"));
   r = run_sylva("grow " + q(species) + " --years -3", dir);
   EXPECT_EQ(r.exit_code, 2);
+
+  // A frames directory that is a file, or lies under one, is refused before anything is grown.
+  std::ofstream(dir / "plain_file") << "x";
+  for (const fs::path& frames : {dir / "plain_file", dir / "plain_file" / "sub"}) {
+    r = run_sylva("grow " + q(species) + " --years 2 --frames " + q(frames) + " --save " + q(dir / "f.hbtree"), dir);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("--frames"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "f.hbtree"));
+  }
 }
 
 }  // namespace

@@ -212,19 +212,24 @@ TEST(HartBakerGrowth, Figure1BalanceAndPhototropism) {
   HartBakerParams phototropic = balanced;
   phototropic.phototropism = true;
   const int years = 12;
+  constexpr int kSeeds = 6;
   Outcome g, b, l;
-  const uint64_t seeds[] = {1, 2, 3, 4};
-  for (const uint64_t seed : seeds) {
+  double light_per_branch = 0.0;  // mean over seeds of (light ratio / branch ratio)
+  int sheds_more_than_it_loses = 0;
+  for (uint64_t seed = 1; seed <= kSeeds; ++seed) {
     const Outcome og = grow_and_measure(genetic, seed, years), ob = grow_and_measure(balanced, seed, years),
                   ol = grow_and_measure(phototropic, seed, years);
-    g.com_offset_m += og.com_offset_m / 4;
-    b.com_offset_m += ob.com_offset_m / 4;
-    g.light_m2 += og.light_m2 / 4;
-    l.light_m2 += ol.light_m2 / 4;
-    g.branches += og.branches / 4;
-    l.branches += ol.branches / 4;
-    g.mass_kg += og.mass_kg / 4;
-    l.mass_kg += ol.mass_kg / 4;
+    g.com_offset_m += og.com_offset_m / kSeeds;
+    b.com_offset_m += ob.com_offset_m / kSeeds;
+    g.light_m2 += og.light_m2 / kSeeds;
+    l.light_m2 += ol.light_m2 / kSeeds;
+    g.branches += og.branches / kSeeds;
+    l.branches += ol.branches / kSeeds;
+    g.mass_kg += og.mass_kg / kSeeds;
+    l.mass_kg += ol.mass_kg / kSeeds;
+    const double per_branch = (ol.light_m2 / og.light_m2) / (ol.branches / og.branches);
+    light_per_branch += per_branch / kSeeds;
+    sheds_more_than_it_loses += per_branch > 1.0;
   }
   RecordProperty("com_offset_genetic_m", std::to_string(g.com_offset_m));
   RecordProperty("com_offset_balanced_m", std::to_string(b.com_offset_m));
@@ -233,15 +238,19 @@ TEST(HartBakerGrowth, Figure1BalanceAndPhototropism) {
   RecordProperty("mass_ratio", std::to_string(l.mass_kg / g.mass_kg));
   std::printf(
       "Figure 1: centre of mass offset genetic %.4f m, balanced %.4f m; phototropic/genetic light %.3f, "
-      "branches %.3f, mass %.3f\n",
-      g.com_offset_m, b.com_offset_m, l.light_m2 / g.light_m2, l.branches / g.branches, l.mass_kg / g.mass_kg);
-  // Measured (docs/hart_baker.md "Figure 1"): balanced/genetic offset ≈ 0.26; phototropic/genetic
-  // light ≈ 0.73 with ≈ 0.70 of the branches and mass. The bounds leave room for seeds, not for a
-  // broken balance or shedding (the same tree, or none of it).
+      "branches %.3f, mass %.3f, light per branch %.3f\n",
+      g.com_offset_m, b.com_offset_m, l.light_m2 / g.light_m2, l.branches / g.branches, l.mass_kg / g.mass_kg,
+      light_per_branch);
+  // Measured (docs/hart_baker.md "Figure 1", seeds 1–8): balanced/genetic offset ≈ 0.34;
+  // phototropic/genetic light ≈ 0.70 with ≈ 0.57 of the branches and 0.73 of the mass, light per
+  // branch ≈ 1.25 (per seed 1.1–1.5). The paper's "same light with 25 % of the branches" is not
+  // reached (docs/hart_baker.md says why); the bounds hold the direction of the effect: shedding
+  // removes far more branches than light, in every seed.
   EXPECT_LT(b.com_offset_m, 0.5 * g.com_offset_m);
   EXPECT_GT(l.light_m2, 0.55 * g.light_m2);
-  EXPECT_LT(l.branches, 0.85 * g.branches);
-  EXPECT_GT(l.branches, 0.3 * g.branches);
+  EXPECT_LT(l.branches, 0.75 * g.branches);
+  EXPECT_GT(light_per_branch, 1.1);
+  EXPECT_EQ(sheds_more_than_it_loses, kSeeds);
 }
 
 }  // namespace

@@ -64,7 +64,7 @@ void add_limb(HartBakerTree& t, int32_t parent, uint8_t order, const Vec3& base,
   t.length_m.push_back(length);
   t.radius_m.push_back(radius);
   t.apex.push_back(-1);
-  t.lit.push_back(1.0f);
+  t.lit.push_back(parent >= 0 ? t.lit[static_cast<size_t>(parent)] : 1.0f);
   t.ring_radius_m.push_back({});
   t.ring_length_m.push_back({});
   t.ring_offset_m.push_back({});
@@ -172,7 +172,9 @@ LimbSums compute_limb_sums(const HartBakerTree& tree, const HartBakerParams& par
     if (!is_shoot(tree, i)) continue;
     double g = params.min_growth + (params.balance ? params.balance_growth * (1.0 + s.o[i]) : params.balance_growth);
     g = std::min(g, 1.0);
-    if (params.phototropism && s.leaf_area_m2[i] > 0.0) g += params.light_growth * s.p[i] / s.leaf_area_m2[i];
+    if (params.phototropism && s.leaf_area_m2[i] > 0.0) {
+      g += params.light_growth * std::min(1.0, s.p[i] / s.leaf_area_m2[i]);
+    }
     s.g[i] = g * std::pow(static_cast<double>(params.apical_dominance), tree.order[i]);
   }
   for (size_t k = n; k-- > 0;) {
@@ -265,7 +267,9 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
     if (!tree.alive[i]) continue;
     const DVec3 dir = to_d(tree.direction[i]);
     const DVec3 lever = horizontal(s.X[i] - to_d(tree.base[i]));
-    const DVec3 across = lever - glm::dot(lever, dir) * dir;
+    // The side the supported weight bends the limb toward, across its axis: dir × (v × ẑ) with v the
+    // lever (for an upright limb the side toward the load; for a leaning one the underside).
+    const DVec3 across = glm::cross(dir, glm::cross(s.X[i] - to_d(tree.base[i]), DVec3(0, 0, 1)));
     // A yearly continuation of an axis (the trunk's included) bends as the axis does: θ_d = 90°.
     const bool continues = i == 0 || tree.apex[static_cast<size_t>(tree.parent[i])] == static_cast<int32_t>(i);
     const double sin_d =
@@ -284,20 +288,26 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
     tree.ring_offset_m[i].push_back(tree.reaction_m[i]);
   }
 
-  // Shedding: the smoothed lit fraction of the leaves a limb supports (P_i over their area).
-  std::vector<double> area(n, 0.0);
-  for (size_t k = n; k-- > 0;) {
-    if (!tree.alive[k]) continue;
-    area[k] += s.leaf_area_m2[k];
-    if (k > 0) area[static_cast<size_t>(tree.parent[k])] += area[k];
-  }
+  // Shedding (§4.1 "kills limbs that do not return sufficient photosynthetic nutrition"), from the
+  // tips inward: each limb's lit fraction is that of its own leaves (p_i over their area), smoothed
+  // ½ old + ½ new each year, a new limb starting from its parent's. A limb dies when it carries no
+  // living limb and its leaves are shaded below shed_light, or it has no leaves left; its parent
+  // is then judged in the same sweep (children have larger ids). So shaded twigs die, a branch dies
+  // once it is bare, and a branch that still carries lit shoots lives however shaded its base is.
+  // The trunk's axis is never shed (docs/hart_baker.md "Shedding").
   ++tree.year;
   if (params.phototropism && !light_m2.empty()) {
-    for (size_t i = 1; i < n; ++i) {
-      if (!tree.alive[i] || tree.order[i] == 0 || area[i] <= 0.0) continue;  // the trunk is never shed
-      tree.lit[i] = static_cast<float>(0.5 * tree.lit[i] + 0.5 * std::min(1.0, s.P[i] / area[i]));
-      if (tree.year - tree.born[i] >= params.shed_age && tree.lit[i] < params.shed_light) {
-        kill_subtree(tree, children, static_cast<int32_t>(i));
+    std::vector<int> living_children(n, 0);
+    for (size_t i = 1; i < n; ++i)
+      if (tree.alive[i]) ++living_children[static_cast<size_t>(tree.parent[i])];
+    for (size_t i = n; i-- > 0;) {
+      if (!tree.alive[i]) continue;
+      if (s.leaf_area_m2[i] > 0.0)
+        tree.lit[i] = static_cast<float>(0.5 * tree.lit[i] + 0.5 * std::min(1.0, s.p[i] / s.leaf_area_m2[i]));
+      if (tree.order[i] == 0 || living_children[i] > 0 || tree.year - tree.born[i] < params.shed_age) continue;
+      if (s.leaf_area_m2[i] <= 0.0 || tree.lit[i] < params.shed_light) {
+        tree.alive[i] = 0;
+        --living_children[static_cast<size_t>(tree.parent[i])];
         ++report.shed;
       }
     }
@@ -405,15 +415,15 @@ TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams
     st.lobe_depth.push_back(0.0f);
     const Frame f = Frame::from_z(tree.direction[i]);
     StemSections& sec = model.sections;
-    sec.positions.push_back(tree.base[i]);
-    sec.positions.push_back(tree.base[i] + tree.direction[i] * tree.length_m[i]);
+    const int32_t apex = tree.apex[i];
+    const bool joined = apex >= 0 && tree.alive[static_cast<size_t>(apex)];
+    sec.positions.push_back(tree.base[i] + tree.reaction_m[i]);
+    sec.positions.push_back(joined ? tree.base[static_cast<size_t>(apex)] + tree.reaction_m[static_cast<size_t>(apex)]
+                                   : tree.base[i] + tree.direction[i] * tree.length_m[i]);
     sec.frames.push_back(f);
     sec.frames.push_back(f);
     sec.radius_m.push_back(tree.radius_m[i]);
-    const int32_t apex = tree.apex[i];
-    const bool joined = apex >= 0 && tree.alive[static_cast<size_t>(apex)];
-    sec.radius_m.push_back(joined ? std::max(tree.radius_m[static_cast<size_t>(apex)], tree.tip_radius(i, params))
-                                  : tree.tip_radius(i, params));
+    sec.radius_m.push_back(joined ? tree.radius_m[static_cast<size_t>(apex)] : tree.tip_radius(i, params));
     sec.arc_m.push_back(0.0f);
     sec.arc_m.push_back(tree.length_m[i]);
   }

@@ -96,11 +96,11 @@ struct HartBakerParams {
   float leaf_length_m = 0.1f;
   float leaf_width_m = 0.07f;
   float leaf_radius_m = 0.012f;  // leaves only where the limb is thinner than this
-  // Shedding (§4.1 "kills limbs that do not return sufficient photosynthetic nutrition"): a limb
-  // at least `shed_age` years old whose leaves' smoothed lit fraction falls below `shed_light` dies
-  // with everything it supports.
-  float shed_light = 0.25f;
-  int shed_age = 2;
+  // Shedding (§4.1 "kills limbs that do not return sufficient photosynthetic nutrition"), from the
+  // tips inward: a limb at least `shed_age` years old that carries no living limb dies when its
+  // own leaves' smoothed lit fraction falls below `shed_light`, or when it has no leaves left.
+  float shed_light = 0.2f;
+  int shed_age = 1;
   // Reaction wood (§5.1): the share of a year's radius increase laid down eccentrically.
   float reaction_wood = 0.5f;
   // How long the tree grows when a scene uses the species (`sylva grow --years` overrides).
@@ -133,7 +133,7 @@ struct HartBakerTree {
   std::vector<float> length_m;  // l_i
   std::vector<float> radius_m;  // R_i (base); r_i = tip_ratio · R_i
   std::vector<int32_t> apex;    // the limb continuing this one (its next year's shoot), -1 while a shoot
-  std::vector<float> lit;       // smoothed lit fraction of the limb's leaves (for shedding)
+  std::vector<float> lit;       // smoothed lit fraction of the limb's own leaves (for shedding)
   // Growth rings (§6): R_i at the end of every year since the limb sprouted, the length then, and
   // the cumulative reaction-wood offset of the ring centre (world vector; §5.1, eq. 31).
   std::vector<std::vector<float>> ring_radius_m;
@@ -205,9 +205,14 @@ void prune_hart_baker_limb(HartBakerTree& tree, int32_t id);
 // convention; `stem` holds the limb id.
 TreeLeaves hart_baker_leaves(const HartBakerTree& tree, const HartBakerParams& params);
 
-// The state as a TreeModel: one stem per living limb (base and tip sections, the tip drawn with the
-// base radius of the limb's continuation so the yearly segments join; `stem` of each leaf maps to
-// the stem index, not the limb id), so the shared mesher turns it into tubes and leaves.
+// The state as a TreeModel: one stem per living limb (base and tip sections; `stem` of each leaf
+// maps to the stem index, not the limb id), so the shared mesher turns it into tubes and leaves.
+// The base section carries the limb's reaction wood (§5.1, eq. 31): it is the outer ring, radius
+// R_i centred on the ring centre's offset, so the side ŷ stands out by the offset and the other
+// side falls back by as much (eq. 31's bulge of Δr = twice the offset on a concentric core of
+// R_i − offset, as the rings show it); the tip section is the base section of the continuation,
+// so the yearly segments of an axis join without a step in radius or centre (docs/hart_baker.md
+// "Surface").
 TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams& params);
 
 // Tree-model registry function. The model a scene sees is grown by scenes/ with the light pass

@@ -270,6 +270,75 @@ TEST(HartBaker, ReactionWoodSidesDependOnTheWoodClass) {
   }
 }
 
+// The stem of limb `limb` in hart_baker_tree_model's output (stems follow the living limbs in order).
+size_t stem_of(const HartBakerTree& t, size_t limb) {
+  size_t stem = 0;
+  for (size_t i = 0; i < limb; ++i) stem += t.alive[i];
+  return stem;
+}
+
+TEST(HartBaker, YearlySegmentsJoinWithoutAStep) {
+  // Along every axis the drawn tip of one year's segment is the drawn base of the next: the same
+  // centre and radius, so the tube has no step where yearly segments meet (and a thin continuation
+  // on a thick tip tapers into it instead of stepping down).
+  for (const WoodClass wood : {WoodClass::Angiosperm, WoodClass::Gymnosperm}) {
+    HartBakerParams p;
+    p.wood = wood;
+    p.years = 9;
+    HartBakerTree t = make_hart_baker_seedling(p, 3);
+    for (int y = 0; y < p.years; ++y) grow_hart_baker_year(t, p, {});
+    const TreeModel model = hart_baker_tree_model(t, p);
+    int joins = 0, stepped_before = 0;
+    float worst = 0.0f;
+    for (size_t i = 0; i < t.size(); ++i) {
+      const int32_t apex = t.apex[i];
+      if (!t.alive[i] || apex < 0 || !t.alive[static_cast<size_t>(apex)]) continue;
+      const uint32_t tip = model.stems.first_section[stem_of(t, i)] + model.stems.section_count[stem_of(t, i)] - 1;
+      const uint32_t base = model.stems.first_section[stem_of(t, static_cast<size_t>(apex))];
+      const float R = model.sections.radius_m[tip];
+      worst = std::max(worst, std::abs(model.sections.radius_m[base] - R) / R);
+      worst = std::max(worst, glm::length(model.sections.positions[base] - model.sections.positions[tip]) / R);
+      // What a plain cone-per-segment drawing would show there: r_i against R_apex.
+      stepped_before += std::abs(t.tip_radius(i, p) - t.radius_m[static_cast<size_t>(apex)]) > 0.05f * R;
+      ++joins;
+    }
+    ASSERT_GT(joins, 100);
+    EXPECT_LT(worst, 1e-5f);
+    EXPECT_GT(stepped_before, 0);  // the joins this test guards would otherwise step
+  }
+}
+
+TEST(HartBaker, ReactionWoodBulgesOnItsSide) {
+  // Eq. 31 on the drawn surface: a lateral's base section is its outer ring, moved toward ŷ by the
+  // ring centre's offset, so the base stands out on that side — below (compression wood) for a
+  // gymnosperm, above (tension wood) for an angiosperm — and falls back on the other.
+  for (const WoodClass wood : {WoodClass::Gymnosperm, WoodClass::Angiosperm}) {
+    HartBakerParams p;
+    p.wood = wood;
+    p.reaction_wood = 1.0f;
+    HartBakerTree t = make_hart_baker_seedling(p, 5);
+    for (int y = 0; y < 14; ++y) grow_hart_baker_year(t, p, {});
+    const TreeModel model = hart_baker_tree_model(t, p);
+    int laterals = 0, right_side = 0;
+    for (size_t i = 1; i < t.size(); ++i) {
+      const size_t parent = static_cast<size_t>(t.parent[i]);
+      // Laterals leaning at least 45° from upright: the weight bends them down.
+      const bool lateral = t.alive[i] && t.order[i] > t.order[parent] && t.direction[i].z < 0.7f;
+      if (!lateral || glm::length(t.reaction_m[i]) < 1e-3f * t.radius_m[i]) continue;
+      const uint32_t base = model.stems.first_section[stem_of(t, i)];
+      const Vec3 shift = model.sections.positions[base] - t.base[i];
+      const float r = model.sections.radius_m[base];
+      // The section's extent on the side of the shift and against it.
+      EXPECT_NEAR(r, t.radius_m[i], 1e-6f);
+      EXPECT_NEAR(glm::length(shift), glm::length(t.reaction_m[i]), 1e-6f);
+      ++laterals;
+      right_side += wood == WoodClass::Gymnosperm ? shift.z < 0.0f : shift.z > 0.0f;
+    }
+    ASSERT_GT(laterals, 20);
+    EXPECT_EQ(right_side, laterals);
+  }
+}
+
 TEST(HartBaker, MeshesThroughTheSharedMesher) {
   HartBakerParams p;
   p.years = 5;
