@@ -3,6 +3,7 @@
 // materials, the distant light and the camera. Built by scenes/ (assembly) and consumed by the
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
+#include "geometry/leaf_discs.h"
 #include "geometry/mesh.h"
 #include "geometry/solids/half_space.h"
 #include "render/lights/lights.h"
@@ -26,6 +27,10 @@ struct Prototype {
   // solid, never empty.
   std::vector<HalfSpaceSolid> solids;
   std::vector<std::vector<uint32_t>> solid_palettes;
+  // Leaves as exact discs (RAMI abstract canopies, [[leaves]] files), two-sided with this leaf
+  // material.
+  LeafDiscs discs;
+  uint32_t disc_material = 0;
 };
 
 // A placed copy of a prototype. `world_from_object` is an affine transform.
@@ -33,6 +38,16 @@ struct Instance {
   uint32_t prototype = 0;
   Mat4 world_from_object{1.0f};
   uint32_t object_id = 0;  // label written to the `id.object` AOV (e.g. a class or target id); 0 = none
+};
+
+// A rectangular plot [lo, hi] in x and y (docs/radiometry.md): what the plot sensor and the flux
+// accounting measure. When `cyclic`, the world is periodic: the scene's content is one period and
+// repeats with periods hi − lo in x and y, so a ray leaving the plot on one side re-enters it on the
+// other (EmbreeScene). Content may reach at most one period beyond the plot.
+struct PlotDesc {
+  bool defined = false;
+  Vec2 lo{0.0f}, hi{0.0f};
+  bool cyclic = false;
 };
 
 struct Scene {
@@ -43,6 +58,7 @@ struct Scene {
   SunDesc sun;
   SkyDesc sky;
   CameraDesc camera;
+  PlotDesc plot;
 
   uint32_t add_material(std::string name, Material material) {
     material_names.push_back(std::move(name));
