@@ -5,6 +5,7 @@
 
 #include <fmt/core.h>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -17,40 +18,61 @@ double LeafDiscs::area() const {
   return a;
 }
 
-LeafDiscs read_leaf_discs(const std::filesystem::path& file) {
-  const std::string text = read_input_file(file, kMaxMeshFileBytes, "leaf file");
-  LeafDiscs out;
+namespace {
+
+// Calls row(line_no, values) for each data row of a whitespace-separated table of `columns`
+// numbers (`what` names them in messages); returns the number of the last line.
+template <size_t N, class Row>
+int read_rows(const std::filesystem::path& file, const char* what, const char* kind, const Row& row) {
+  const std::string text = read_input_file(file, kMaxMeshFileBytes, kind);
   std::istringstream lines(text);
   std::string line;
   int line_no = 0;
   while (std::getline(lines, line)) {
     ++line_no;
-    size_t first = line.find_first_not_of(" \t\r");
+    const size_t first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
-    float v[7];
-    int n = 0;
+    std::array<float, N> v{};
+    size_t n = 0;
     const char* p = line.data();
     const char* end = line.data() + line.size();
     while (true) {
       while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
       if (p == end) break;
-      if (n == 7) throw ParseError(file, line_no, "expected 7 numbers (radius cx cy cz nx ny nz), found more");
+      if (n == N) throw ParseError(file, line_no, fmt::format("expected {} numbers ({}), found more", N, what));
       const auto [ptr, ec] = std::from_chars(p, end, v[n]);
       if (ec != std::errc() || (ptr < end && *ptr != ' ' && *ptr != '\t' && *ptr != '\r'))
-        throw ParseError(file, line_no, fmt::format("expected a number in column {}", n + 1));
+        throw ParseError(file, line_no, fmt::format("expected a number in column {} ({})", n + 1, what));
       if (!std::isfinite(v[n])) throw ParseError(file, line_no, fmt::format("column {} is not finite", n + 1));
       ++n;
       p = ptr;
     }
-    if (n < 7)
-      throw ParseError(file, line_no, fmt::format("expected 7 numbers (radius cx cy cz nx ny nz), found {}", n));
+    if (n < N) throw ParseError(file, line_no, fmt::format("expected {} numbers ({}), found {}", N, what, n));
+    row(line_no, v);
+  }
+  return line_no;
+}
+
+}  // namespace
+
+std::vector<Vec3> read_points(const std::filesystem::path& file) {
+  std::vector<Vec3> out;
+  const int last = read_rows<3>(file, "x y z", "point file",
+                                [&](int, const std::array<float, 3>& v) { out.emplace_back(v[0], v[1], v[2]); });
+  if (out.empty()) throw ParseError(file, last, "the file holds no points");
+  return out;
+}
+
+LeafDiscs read_leaf_discs(const std::filesystem::path& file) {
+  LeafDiscs out;
+  const int last = read_rows<7>(file, "radius cx cy cz nx ny nz", "leaf file", [&](int line_no, const auto& v) {
     if (!(v[0] > 0)) throw ParseError(file, line_no, "the disc radius must be positive");
     const Vec3 normal(v[4], v[5], v[6]);
     const float len = glm::length(normal);
     if (!(len > 0)) throw ParseError(file, line_no, "the disc normal must not be zero");
     out.add(Vec3(v[1], v[2], v[3]), v[0], normal / len);
-  }
-  if (out.size() == 0) throw ParseError(file, line_no, "the leaf file holds no leaves");
+  });
+  if (out.size() == 0) throw ParseError(file, last, "the leaf file holds no leaves");
   return out;
 }
 

@@ -36,6 +36,10 @@ struct LeafDiscs {
 // sylva::ParseError ("file:line: ...") for a short row, a bad number, a radius ≤ 0, a zero normal.
 LeafDiscs read_leaf_discs(const std::filesystem::path& file);
 
+// Reads points, one per row `x y z` (whitespace separated; blank lines and '#' lines skipped), e.g.
+// the RAMI-3 HET01 sphere centres. Throws sylva::ParseError ("file:line: ...").
+std::vector<Vec3> read_points(const std::filesystem::path& file);
+
 // Leaf-angle distributions (de Wit 1965; the RAMI abstract canopies): the density of the leaf
 // inclination θ_L (angle between the leaf normal and the zenith), azimuth uniform.
 //   spherical (= RAMI "uniform"): normals uniform over the sphere, g(θ_L) = sin θ_L, G = 0.5
