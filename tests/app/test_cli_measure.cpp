@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -106,6 +107,20 @@ TEST(CliMeasure, RefusesBadRequestsBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(dir / "f.csv"));
   r = run_sylva("measure " + scene + " --brf " + q(dir / "no_such_dir" / "b.csv"), dir);
   EXPECT_EQ(r.exit_code, 2);
+}
+
+// `sylva export` keeps the discs: each a 12-sided polygon (a fan of 12 triangles) in the OBJ.
+TEST(CliMeasure, ExportPolygonisesLeafDiscs) {
+  const fs::path dir = fresh_dir("cli_export_discs");
+  std::ofstream(dir / "plot.toml") << kScene << "[camera]\nposition = [0, -6, 3]\ntarget = [0, 0, 0.5]\n";
+  const auto r = run_sylva("export " + q(dir / "plot.toml") + " --obj " + q(dir / "plot.obj"), dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  int faces = 0;
+  std::istringstream in(read_text(dir / "plot.obj"));
+  std::string line;
+  while (std::getline(in, line)) faces += line.rfind("f ", 0) == 0;
+  const int discs = static_cast<int>(std::round(1.0 * 16.0 / (3.14159265358979 * 0.01)));  // LAI 1 on 4 × 4 m
+  EXPECT_EQ(faces, 2 + 12 * discs);
 }
 
 }  // namespace
