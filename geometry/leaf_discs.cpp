@@ -133,16 +133,18 @@ LeafDiscs make_homogeneous_layer(Vec2 lo, Vec2 hi, float height, float lai, floa
 
 LeafDiscs make_leaf_sphere(float sphere_radius, float lai, float radius, LeafAngles angles, uint64_t seed) {
   if (!(sphere_radius > radius)) throw Error("the sphere radius must exceed the disc radius");
+  // Centres fill the whole sphere, as in RAMI's HET01 file (its centres reach 9.9999 m of 10 m):
+  // keeping discs inside a sphere of R − r would shrink its cross-section by 2 % at the same leaf
+  // area and lower the BRF by about as much.
   const size_t n = disc_count(static_cast<double>(lai) * kPi * sphere_radius * sphere_radius, radius);
   Pcg32 rng(seed, 0x7370686572656c66ull);
   LeafDiscs out;
-  const float r_in = sphere_radius - radius;
   for (size_t i = 0; i < n; ++i) {
     Vec3 c;
     do {
       c = Vec3(2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1);
     } while (glm::dot(c, c) > 1.0f);
-    out.add(r_in * c, radius, sample_leaf_normal(angles, rng));
+    out.add(sphere_radius * c, radius, sample_leaf_normal(angles, rng));
   }
   return out;
 }

@@ -59,7 +59,8 @@ LeafDiscs make_homogeneous_layer(Vec2 lo, Vec2 hi, float height, float lai, floa
                                  uint64_t seed);
 
 // A sphere of radius `sphere_radius` centred on the origin filled with discs whose centres are
-// uniform in the sphere of radius sphere_radius − radius (every disc stays inside), as many as give
+// uniform in it (as in RAMI's HET01 file; a disc near the surface may reach out by its radius),
+// as many as give
 // the sphere's leaf area index `lai` = leaf area / (π R²) (RAMI-3 HET01: R = 10 m, LAI 5, r = 0.1 m:
 // 50,000 discs). Deterministic for a seed.
 LeafDiscs make_leaf_sphere(float sphere_radius, float lai, float radius, LeafAngles angles, uint64_t seed);

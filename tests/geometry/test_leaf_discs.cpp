@@ -107,13 +107,13 @@ TEST(LeafDiscs, HomogeneousLayerHoldsItsLeafAreaInsideTheLayer) {
 }
 
 // RAMI-3 HET01: a sphere of radius 10 m with LAI 5 of discs of radius 0.1 m holds 50,000 of them
-// (RAMI's file has 49,999), centres uniform in the sphere (mean r³ = (R − r)³/2).
+// (RAMI's file has 49,999), centres uniform in the sphere (mean (|c|/R)³ = 1/2, as in RAMI's file).
 TEST(LeafDiscs, SphereOfDiscsMatchesHet01) {
   const LeafDiscs d = make_leaf_sphere(10.0f, 5.0f, 0.1f, LeafAngles::spherical, 1);
   EXPECT_EQ(d.size(), 50000u);
   double sum = 0, sum2 = 0;
   for (const Vec3& c : d.centre) {
-    const double r3 = std::pow(glm::length(c) / 9.9, 3.0);
+    const double r3 = std::pow(glm::length(c) / 10.0, 3.0);
     EXPECT_LE(r3, 1.0 + 1e-5);
     sum += r3;
     sum2 += r3 * r3;
