@@ -31,14 +31,18 @@ struct ExportOptions {
 // Every instance of every prototype in world space, leaf quads split into triangles (0,1,2) and
 // (0,2,3), half-space solids polygonised (geometry/solids/solid_mesh.h). Normals are transformed by
 // the inverse transpose when the whole scene has them (the leaves get their quad's geometric
-// normal); uvs are dropped. Leaf alpha outlines are lost.
+// normal); uvs are dropped. Leaf alpha outlines are lost. Leaf discs become regular polygons of
+// kDiscSides sides inscribed in the disc (their area is (n/2π)·sin(2π/n) = 95.5 % of the disc's).
+constexpr int kDiscSides = 12;
+
 TriangleMesh flatten_scene(const Scene& scene) {
   size_t vertex_count = 0, triangle_count = 0;
   bool normals = true;
   for (const Instance& inst : scene.instances) {
     const Prototype& proto = scene.prototypes[inst.prototype];
-    vertex_count += proto.triangles.positions.size() + proto.leaves.corners.size();
-    triangle_count += proto.triangles.triangles.size() + 2 * proto.leaves.size();
+    vertex_count +=
+        proto.triangles.positions.size() + proto.leaves.corners.size() + (kDiscSides + 1) * proto.discs.size();
+    triangle_count += proto.triangles.triangles.size() + 2 * proto.leaves.size() + kDiscSides * proto.discs.size();
     if (!proto.triangles.triangles.empty() && proto.triangles.normals.empty()) normals = false;
   }
   TriangleMesh world;
@@ -79,6 +83,23 @@ TriangleMesh flatten_scene(const Scene& scene) {
       }
       world.triangles.push_back({base, base + 1, base + 2});
       world.triangles.push_back({base, base + 2, base + 3});
+    }
+
+    const LeafDiscs& discs = proto.discs;
+    for (size_t d = 0; d < discs.size(); ++d) {
+      base = static_cast<uint32_t>(world.positions.size());
+      const Frame frame = Frame::from_z(discs.normal[d]);
+      const Vec3 n = to_world_normal(discs.normal[d]);
+      world.positions.push_back(to_world(discs.centre[d]));
+      if (normals) world.normals.push_back(n);
+      for (int k = 0; k < kDiscSides; ++k) {
+        const float a = kTwoPi * static_cast<float>(k) / kDiscSides;
+        world.positions.push_back(
+            to_world(discs.centre[d] + discs.radius[d] * (std::cos(a) * frame.x + std::sin(a) * frame.y)));
+        if (normals) world.normals.push_back(n);
+      }
+      for (uint32_t k = 0; k < kDiscSides; ++k)
+        world.triangles.push_back({base, base + 1 + k, base + 1 + (k + 1) % kDiscSides});
     }
 
     // Half-space solids (Fournier–Grindal crowns and trunks), polygonised once per prototype.

@@ -46,5 +46,6 @@ CommandRun add_golden_command(CLI::App& parent);
 CommandRun add_merge_command(CLI::App& parent);
 CommandRun add_grow_command(CLI::App& parent);
 CommandRun add_bands_command(CLI::App& parent);
+CommandRun add_measure_command(CLI::App& parent);
 
 }  // namespace sylva

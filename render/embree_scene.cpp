@@ -6,8 +6,10 @@
 #include <embree3/rtcore.h>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <limits>
 
 namespace sylva {
@@ -104,6 +106,20 @@ void error_callback(void*, RTCError code, const char* message) {
   fmt::print(stderr, "sylva: embree error {}: {}\n", static_cast<int>(code), message ? message : "");
 }
 
+// The nine cells of a cyclic plot's neighbourhood, in periods; the plot's own cell first.
+const Vec2 kCellShifts[9] = {{0, 0}, {-1, -1}, {0, -1}, {1, -1}, {-1, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+
+// A ray in a cyclic plot that crosses this many cell walls without hitting anything is taken to
+// escape: only rays within a few degrees of horizontal in an empty layer get this far.
+constexpr int kMaxCellCrossings = 4096;
+
+// `x` wrapped into [lo, lo + period).
+float wrap(float x, float lo, float period) {
+  float w = x - period * std::floor((x - lo) / period);
+  if (w >= lo + period) w -= period;
+  return w;
+}
+
 std::atomic<int64_t> g_embree_bytes{0};
 std::atomic<int64_t> g_embree_peak{0};
 
@@ -129,7 +145,12 @@ struct EmbreeScene::Impl {
   std::vector<unsigned> leaf_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<unsigned> solid_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<unsigned> curve_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
+  std::vector<unsigned> disc_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
+  // Cyclic plot: the cell [lo, hi] (x, y), its period, and the heights outside which no geometry lies.
+  bool cyclic = false;
+  Vec2 lo{0.0f}, hi{0.0f}, period{0.0f};
+  float z_lo = 0, z_hi = 0;
 
   ~Impl() {
     if (top) rtcReleaseScene(top);
@@ -238,47 +259,194 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
       rtcReleaseGeometry(g);
       stats_.curves += cs.size();
     }
+    unsigned disc_id = RTC_INVALID_GEOMETRY_ID;
+    const LeafDiscs& discs = proto.discs;
+    if (discs.size() > 0) {
+      if (discs.radius.size() != discs.size() || discs.normal.size() != discs.size())
+        throw Error(fmt::format("prototype '{}': leaf discs need a radius and a normal each", proto.name));
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
+      auto* v = static_cast<float*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), discs.size()));
+      auto* n = static_cast<float*>(
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), discs.size()));
+      for (size_t i = 0; i < discs.size(); ++i) {
+        v[4 * i] = discs.centre[i].x;
+        v[4 * i + 1] = discs.centre[i].y;
+        v[4 * i + 2] = discs.centre[i].z;
+        v[4 * i + 3] = discs.radius[i];
+        n[3 * i] = discs.normal[i].x;
+        n[3 * i + 1] = discs.normal[i].y;
+        n[3 * i + 2] = discs.normal[i].z;
+      }
+      rtcCommitGeometry(g);
+      disc_id = rtcAttachGeometry(s, g);
+      rtcReleaseGeometry(g);
+      stats_.discs += discs.size();
+    }
     rtcCommitScene(s);
     check(device, "building a prototype BVH");
     impl_->prototypes.push_back(s);
     impl_->leaf_geom_id.push_back(leaf_id);
     impl_->solid_geom_id.push_back(solid_id);
     impl_->curve_geom_id.push_back(curve_id);
+    impl_->disc_geom_id.push_back(disc_id);
   }
 
   impl_->top = rtcNewScene(device);
   rtcSetSceneFlags(impl_->top, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(impl_->top, RTC_BUILD_QUALITY_HIGH);
-  for (size_t i = 0; i < scene.instances.size(); ++i) {
-    const Instance& inst = scene.instances[i];
-    if (inst.prototype >= impl_->prototypes.size())
-      throw Error(fmt::format("instance {} refers to missing prototype {}", i, inst.prototype));
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(g, impl_->prototypes[inst.prototype]);
-    float xfm[12];
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 3; ++r) xfm[3 * c + r] = inst.world_from_object[c][r];
-    rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
-    rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(impl_->top, g);
-    rtcReleaseGeometry(g);
-    if (id != i) throw Error("embree: unexpected instance id");
-    impl_->instance_prototype.push_back(inst.prototype);
-    const Prototype& p = scene.prototypes[inst.prototype];
-    stats_.instanced_triangles += p.triangles.triangles.size();
-    stats_.instanced_leaf_quads += p.leaves.size();
-    stats_.instanced_curves += p.curves.size();
+  const PlotDesc& plot = scene.plot;
+  impl_->cyclic = plot.defined && plot.cyclic;
+  if (impl_->cyclic) {
+    if (!(plot.hi.x > plot.lo.x && plot.hi.y > plot.lo.y)) throw Error("a cyclic plot needs a non-empty rectangle");
+    impl_->lo = plot.lo;
+    impl_->hi = plot.hi;
+    impl_->period = plot.hi - plot.lo;
   }
-  stats_.instances = scene.instances.size();
+  // Copy k of instance i has the Embree id k·N + i: copy 0 is the instance itself, copies 1–8 its
+  // shifts by whole periods (cyclic plots only).
+  const int copies = impl_->cyclic ? 9 : 1;
+  const size_t n_instances = scene.instances.size();
+  for (int k = 0; k < copies; ++k) {
+    for (size_t i = 0; i < n_instances; ++i) {
+      const Instance& inst = scene.instances[i];
+      if (inst.prototype >= impl_->prototypes.size())
+        throw Error(fmt::format("instance {} refers to missing prototype {}", i, inst.prototype));
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(g, impl_->prototypes[inst.prototype]);
+      const Vec2 offset = kCellShifts[k] * impl_->period;
+      float xfm[12];
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 3; ++r) xfm[3 * c + r] = inst.world_from_object[c][r];
+      xfm[9] += offset.x;
+      xfm[10] += offset.y;
+      rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+      rtcCommitGeometry(g);
+      const unsigned id = rtcAttachGeometry(impl_->top, g);
+      rtcReleaseGeometry(g);
+      if (id != k * n_instances + i) throw Error("embree: unexpected instance id");
+      if (k > 0) continue;
+      impl_->instance_prototype.push_back(inst.prototype);
+      const Prototype& p = scene.prototypes[inst.prototype];
+      stats_.instanced_triangles += p.triangles.triangles.size();
+      stats_.instanced_leaf_quads += p.leaves.size();
+      stats_.instanced_curves += p.curves.size();
+    }
+    if (k == 0 && n_instances > 0) {
+      // The bounds of one period, before the shifted copies join the scene.
+      rtcCommitScene(impl_->top);
+      RTCBounds b;
+      rtcGetSceneBounds(impl_->top, &b);
+      bounds_.extend(Vec3(b.lower_x, b.lower_y, b.lower_z));
+      bounds_.extend(Vec3(b.upper_x, b.upper_y, b.upper_z));
+    }
+  }
+  stats_.instances = n_instances;
   rtcCommitScene(impl_->top);
   check(device, "building the instance BVH");
+  impl_->z_lo = bounds_.lo.z;
+  impl_->z_hi = bounds_.hi.z;
   stats_.bvh_bytes = static_cast<size_t>(std::max<int64_t>(0, g_embree_peak.load() - base_bytes));
   stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 EmbreeScene::~EmbreeScene() = default;
 
+namespace {
+
+// A ray's walk through a cyclic plot's cell: the current origin (wrapped into the cell), the
+// distance travelled so far, and the length of the segment inside the cell.
+struct CellWalk {
+  Vec3 origin;
+  float travelled = 0;
+  float segment = 0;   // to the next side wall; infinity for a vertical ray
+  int exit_axis = -1;  // 0 = x, 1 = y wall at the segment's end
+};
+
+// Sets up the segment from walk.origin to the cell's side walls.
+void next_segment(CellWalk& walk, const Vec3& d, Vec2 lo, Vec2 hi) {
+  walk.segment = std::numeric_limits<float>::infinity();
+  walk.exit_axis = -1;
+  for (int a = 0; a < 2; ++a) {
+    if (d[a] == 0.0f) continue;
+    const float t = ((d[a] > 0 ? hi[a] : lo[a]) - walk.origin[a]) / d[a];
+    if (t < walk.segment) {
+      walk.segment = std::max(t, 0.0f);
+      walk.exit_axis = a;
+    }
+  }
+}
+
+// Moves the walk to the opposite wall at the end of its segment. False when the ray has left the
+// heights where geometry lies (or crossed too many walls): it escapes.
+bool cross_wall(CellWalk& walk, const Vec3& d, Vec2 lo, Vec2 hi, float z_lo, float z_hi, int& crossings) {
+  walk.origin += walk.segment * d;
+  walk.travelled += walk.segment;
+  const int a = walk.exit_axis;
+  walk.origin[a] = d[a] > 0 ? lo[a] : hi[a];
+  const int b = 1 - a;
+  walk.origin[b] = std::clamp(walk.origin[b], lo[b], hi[b]);
+  if ((walk.origin.z > z_hi && d.z >= 0) || (walk.origin.z < z_lo && d.z <= 0)) return false;
+  return ++crossings < kMaxCellCrossings;
+}
+
+}  // namespace
+
 bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
+  if (!impl_->cyclic) return intersect_cell(ray, hit);
+  const Impl& m = *impl_;
+  const Vec3& d = ray.direction;
+  CellWalk walk;
+  walk.origin = ray.origin;
+  // Start at the top (or bottom) of the geometry's heights when the ray begins outside them.
+  if (walk.origin.z > m.z_hi || walk.origin.z < m.z_lo) {
+    const float z = walk.origin.z > m.z_hi ? m.z_hi : m.z_lo;
+    if (d.z == 0.0f || (z - walk.origin.z) / d.z < 0) return false;
+    walk.travelled = (z - walk.origin.z) / d.z;
+    walk.origin += walk.travelled * d;
+    walk.origin.z = z;
+  }
+  walk.origin.x = wrap(walk.origin.x, m.lo.x, m.period.x);
+  walk.origin.y = wrap(walk.origin.y, m.lo.y, m.period.y);
+  int crossings = 0;
+  while (walk.travelled < ray.t_max) {
+    next_segment(walk, d, m.lo, m.hi);
+    const float remaining = ray.t_max - walk.travelled;
+    if (intersect_cell(Ray{walk.origin, d, std::min(walk.segment, remaining)}, hit)) {
+      hit->t += walk.travelled;
+      return true;
+    }
+    if (walk.segment >= remaining || !cross_wall(walk, d, m.lo, m.hi, m.z_lo, m.z_hi, crossings)) return false;
+  }
+  return false;
+}
+
+bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_max) const {
+  if (!impl_->cyclic) return occluded_cell(origin, direction, t_max);
+  const Impl& m = *impl_;
+  const Vec3& d = direction;
+  CellWalk walk;
+  walk.origin = origin;
+  if (walk.origin.z > m.z_hi || walk.origin.z < m.z_lo) {
+    const float z = walk.origin.z > m.z_hi ? m.z_hi : m.z_lo;
+    if (d.z == 0.0f || (z - walk.origin.z) / d.z < 0) return false;
+    walk.travelled = (z - walk.origin.z) / d.z;
+    walk.origin += walk.travelled * d;
+    walk.origin.z = z;
+  }
+  walk.origin.x = wrap(walk.origin.x, m.lo.x, m.period.x);
+  walk.origin.y = wrap(walk.origin.y, m.lo.y, m.period.y);
+  int crossings = 0;
+  while (walk.travelled < t_max) {
+    next_segment(walk, d, m.lo, m.hi);
+    const float remaining = t_max - walk.travelled;
+    if (occluded_cell(walk.origin, d, std::min(walk.segment, remaining))) return true;
+    if (walk.segment >= remaining || !cross_wall(walk, d, m.lo, m.hi, m.z_lo, m.z_hi, crossings)) return false;
+  }
+  return false;
+}
+
+bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh{};
@@ -297,6 +465,8 @@ bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   hit->t = rh.ray.tfar;
   hit->instance = rh.hit.instID[0];
+  if (impl_->cyclic && hit->instance != RTC_INVALID_GEOMETRY_ID)
+    hit->instance %= static_cast<uint32_t>(impl_->instance_prototype.size());
   hit->primitive = rh.hit.primID;
   hit->u = rh.hit.u;
   hit->v = rh.hit.v;
@@ -305,11 +475,12 @@ bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
   hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[proto];
   hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
   hit->curve = rh.hit.geomID == impl_->curve_geom_id[proto];
+  hit->disc = rh.hit.geomID == impl_->disc_geom_id[proto];
   if (hit->solid || hit->curve) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }
 
-bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_max) const {
+bool EmbreeScene::occluded_cell(const Vec3& origin, const Vec3& direction, float t_max) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray{};

@@ -2,7 +2,14 @@
 // The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp (docs/design.md §6).
 // One BVH per prototype (triangles and leaf quads as two geometries of one Embree scene), one
 // single-level instance per placed copy. Leaf outlines are alpha masks applied in both the
-// intersection and the occlusion filter, so shadows see the cut-out.
+// intersection and the occlusion filter, so shadows see the cut-out. Leaf discs are Embree's
+// normal-oriented disc points (RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT: the exact disc of a centre,
+// radius and normal).
+//
+// A cyclic plot (PlotDesc::cyclic) makes the world periodic in x and y: every instance is placed
+// nine times (shifted by −1, 0, +1 periods), and a ray is traced inside the plot's cell only — its
+// origin wrapped into the cell, its segments clipped at the cell's side walls and continued from
+// the opposite wall — so light leaving one side re-enters the other and none is lost.
 
 #include "render/scene.h"
 #include "render/sensors/camera.h"
@@ -17,10 +24,11 @@ namespace sylva {
 // prototype's triangles, or its leaf quads when `leaf` (then Prototype::leaves.stem[primitive], if
 // present, is the tree stem carrying the leaf).
 struct RayHit {
-  float t = 0;
+  float t = 0;  // along the ray as given (cyclic plots: the unwrapped distance)
   uint32_t instance = 0;
   bool leaf = false;   // hit a leaf quad (else a triangle or a solid)
   bool solid = false;  // hit a solid: `primitive` indexes Prototype::solids
+  bool disc = false;   // hit a leaf disc: `primitive` indexes Prototype::discs
   uint32_t primitive = 0;
   float u = 0, v = 0;  // Embree's barycentrics (triangles) or quad coordinates (leaves)
   Vec3 normal{0.0f};   // solids: the unit outward normal in object space; curves: the ribbon's
@@ -32,7 +40,7 @@ struct EmbreeStats {
   size_t bvh_bytes = 0;  // peak memory Embree reported through its memory monitor
   double build_ms = 0;
   size_t triangles = 0, leaf_quads = 0, instances = 0;  // unique geometry
-  size_t solids = 0;
+  size_t solids = 0, discs = 0;
   size_t instanced_triangles = 0, instanced_leaf_quads = 0;
   size_t curves = 0, instanced_curves = 0;
 };
@@ -49,12 +57,16 @@ class EmbreeScene {
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-  // Closest hit with t in [0, ray.t_max); false if none.
+  // Closest hit with t in [0, ray.t_max); false if none. In a cyclic plot the hit point
+  // ray.origin + t·direction and the point interpolated from the hit primitive may differ by whole
+  // periods: both are the same point of the periodic world.
   bool intersect(const Ray& ray, RayHit* hit) const;
   // Any hit with t in [0, t_max).
   bool occluded(const Vec3& origin, const Vec3& direction, float t_max) const;
 
   const EmbreeStats& stats() const { return stats_; }
+  // World bounds of all geometry (one period of a cyclic plot: the unshifted instances).
+  const Bounds3& bounds() const { return bounds_; }
   // The scene the BVHs were built from.
   const Scene& scene() const { return *scene_; }
 
@@ -63,6 +75,10 @@ class EmbreeScene {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   EmbreeStats stats_;
+  Bounds3 bounds_;
+
+  bool intersect_cell(const Ray& ray, RayHit* hit) const;
+  bool occluded_cell(const Vec3& origin, const Vec3& direction, float t_max) const;
 };
 
 }  // namespace sylva

@@ -119,6 +119,15 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
     si.ns = si.ng;
     return si;
   }
+  if (hit.disc) {
+    // An exact leaf disc: the point on the world ray, the disc's normal as its upper side.
+    si.p = ray.origin + hit.t * ray.direction;
+    si.ng = glm::normalize(nfo * proto.discs.normal[hit.primitive]);
+    si.ns = si.ng;
+    si.material = proto.disc_material;
+    si.leaf = true;
+    return si;
+  }
   if (hit.leaf) {
     const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
     // Embree's quad parametrisation: triangle (c0,c1,c3) for u+v <= 1, (c2,c3,c1) beyond.

@@ -77,7 +77,8 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
   for (const Band& b : settings.bands) channels += b.channels.size();
   const uint64_t pixels = static_cast<uint64_t>(settings.width) * static_cast<uint64_t>(settings.height);
   uint64_t primitives = 0;
-  for (const Prototype& p : scene.prototypes) primitives += p.triangles.triangles.size() + p.leaves.size();
+  for (const Prototype& p : scene.prototypes)
+    primitives += p.triangles.triangles.size() + p.leaves.size() + p.discs.size();
   MemoryEstimate m;
   m.film_bytes = pixels * (2 * channels * 2 * sizeof(double) + sizeof(uint32_t));
   m.image_bytes = pixels * ((3 * channels + 8) * sizeof(float) + 3 * sizeof(float) + 3);

@@ -60,8 +60,8 @@ struct RenderStats {
 // What a render needs in memory beyond the scene description (docs/limits.md), before anything is
 // allocated: the film (sum and sum of squares as doubles for each radiance and albedo channel, and a
 // sample count per pixel), the output image (floats: mean, variance and albedo per radiance channel,
-// depth, normal, position, four ids) with its preview, and the BVH (an estimate per unique triangle and leaf
-// quad, measured on the shipped scenes).
+// depth, normal, position, four ids) with its preview, and the BVH (an estimate per unique triangle,
+// leaf quad and leaf disc, measured on the shipped scenes).
 struct MemoryEstimate {
   uint64_t film_bytes = 0, image_bytes = 0, bvh_bytes = 0;
   uint64_t total() const { return film_bytes + image_bytes + bvh_bytes; }

@@ -4,6 +4,7 @@
 // Embree backend (render/embree_scene.*) and the integrator. Plain data, index handles.
 
 #include "geometry/grass.h"
+#include "geometry/leaf_discs.h"
 #include "geometry/mesh.h"
 #include "geometry/solids/half_space.h"
 #include "render/lights/lights.h"
@@ -33,6 +34,10 @@ struct Prototype {
   // (a leaf material: reflectance and transmittance).
   CurveSet curves;
   uint32_t curve_material = 0;
+  // Leaves as exact discs (RAMI abstract canopies, [[leaves]] files), two-sided with this leaf
+  // material.
+  LeafDiscs discs;
+  uint32_t disc_material = 0;
 };
 
 // The fixed rows of the class table (Scene::class_names, the `id.class` AOV); species and target
@@ -61,6 +66,16 @@ inline Mat3 normal_from_object(const Instance& inst) {
   return glm::transpose(glm::inverse(Mat3(inst.world_from_object)));
 }
 
+// A rectangular plot [lo, hi] in x and y (docs/radiometry.md): what the plot sensor and the flux
+// accounting measure. When `cyclic`, the world is periodic: the scene's content is one period and
+// repeats with periods hi − lo in x and y, so a ray leaving the plot on one side re-enters it on the
+// other (EmbreeScene). Content may reach at most one period beyond the plot.
+struct PlotDesc {
+  bool defined = false;
+  Vec2 lo{0.0f}, hi{0.0f};
+  bool cyclic = false;
+};
+
 struct Scene {
   std::vector<Material> materials;
   std::vector<std::string> material_names;
@@ -72,6 +87,7 @@ struct Scene {
   // The `id.class` table: row i names class i (kClassSky ... kClassMesh, then named classes).
   std::vector<std::string> class_names{"sky", "terrain", "grass", "mesh"};
   HazeDesc haze;  // optional atmospheric haze (render/media/haze.h); off by default
+  PlotDesc plot;
 
   uint32_t add_material(std::string name, Material material) {
     material_names.push_back(std::move(name));

@@ -9,6 +9,7 @@
 #include "core/rgb_spectrum.h"
 #include "geometry/grass.h"
 #include "geometry/ground.h"
+#include "geometry/leaf_discs.h"
 #include "geometry/mesh_io.h"
 #include "geometry/placement.h"
 #include "geometry/primitives.h"
@@ -24,6 +25,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -61,8 +63,11 @@ class SceneParser {
         {"sky", &SceneParser::parse_sky},
         {"haze", &SceneParser::parse_haze},
         {"materials", &SceneParser::parse_materials},
+        {"plot", &SceneParser::parse_plot},
         {"meshes", &SceneParser::parse_meshes},
         {"trees", &SceneParser::parse_trees},
+        {"leaves", &SceneParser::parse_leaves},
+        {"canopies", &SceneParser::parse_canopies},
         {"terrain", &SceneParser::parse_terrain},
         {"grass", &SceneParser::parse_grass},
         {"vegetation", &SceneParser::parse_vegetation},
@@ -270,7 +275,7 @@ class SceneParser {
     for (const Params* t : root.tables("meshes")) {
       t->check_keys({"name",     "shape",     "file",   "material",    "size",       "radius",     "height",
                      "segments", "tiles",     "count",  "leaf_length", "leaf_width", "leaf_shape", "seed",
-                     "radii",    "translate", "rotate", "scale",       "object_id",  "instances"});
+                     "radii",    "translate", "rotate", "scale",       "object_id",  "instances",  "tile"});
       Prototype p;
       p.name = t->string("name", fmt::format("mesh{}", out_.scene.prototypes.size()));
       const uint32_t material = material_ref(*t, "material");
@@ -331,18 +336,176 @@ class SceneParser {
 
   // Places instances of a prototype: `instances = [{translate, rotate, scale, object_id}, ...]` or
   // the table's own transform.
-  void place(const Params& t, uint32_t proto, uint32_t class_id = kClassMesh, uint32_t variant_id = 0) {
+  // `tile = [nx, ny]` (odd counts) repeats every placed copy on an nx × ny grid centred on itself,
+  // with the [plot]'s size as the spacing. `at` lists positions in the entry's own frame to place a
+  // copy at (the spheres of a [[canopies]] entry); one copy at its origin by default.
+  // `class_id` and `variant_id` label every copy (the `id.class` and `id.variant` AOVs).
+  void place(const Params& t, uint32_t proto, uint32_t class_id = kClassMesh, uint32_t variant_id = 0,
+             const std::vector<Vec3>& at = {Vec3(0.0f)}) {
     const uint32_t object_id = static_cast<uint32_t>(t.integer("object_id", 0, 0, 1 << 24));
     const Mat4 base = transform(t);
+    std::vector<Vec3> tiles{Vec3(0.0f)};
+    if (t.has("tile")) {
+      const std::vector<double> n = t.numbers("tile");
+      if (n.size() != 2) t.fail("tile", "tile = [nx, ny] needs two counts");
+      for (const double c : n)
+        if (!(c >= 1 && c <= 99 && c == std::floor(c) && static_cast<int>(c) % 2 == 1))
+          t.fail("tile", "tile counts must be odd whole numbers from 1 to 99 (the plot stays in the middle)");
+      if (!out_.scene.plot.defined) t.fail("tile", "tile needs a [plot] with a size: the spacing of the copies");
+      const Vec2 size = out_.scene.plot.hi - out_.scene.plot.lo;
+      tiles.clear();
+      const int nx = static_cast<int>(n[0]), ny = static_cast<int>(n[1]);
+      for (int j = -(ny / 2); j <= ny / 2; ++j)
+        for (int i = -(nx / 2); i <= nx / 2; ++i)
+          tiles.emplace_back(static_cast<float>(i) * size.x, static_cast<float>(j) * size.y, 0.0f);
+    }
+    const auto put = [&](const Mat4& m, uint32_t id) {
+      for (const Vec3& tile : tiles)
+        for (const Vec3& a : at)
+          out_.scene.instances.push_back(
+              Instance{proto, glm::translate(Mat4(1.0f), tile) * m * glm::translate(Mat4(1.0f), a), id, class_id,
+                       variant_id});
+    };
     if (t.has("instances")) {
       for (const Params* it : t.tables("instances")) {
         it->check_keys({"translate", "rotate", "scale", "object_id"});
-        out_.scene.instances.push_back(Instance{proto, transform(*it) * base,
-                                                static_cast<uint32_t>(it->integer("object_id", object_id, 0, 1 << 24)),
-                                                class_id, variant_id});
+        put(transform(*it) * base, static_cast<uint32_t>(it->integer("object_id", object_id, 0, 1 << 24)));
       }
     } else {
-      out_.scene.instances.push_back(Instance{proto, base, object_id, class_id, variant_id});
+      put(base, object_id);
+    }
+  }
+
+  // [plot]: the rectangle the plot sensor measures (size, centre), whether the world repeats it
+  // (cyclic), the view directions, sample counts and the materials counted as ground.
+  void parse_plot(const Params& root) {
+    const Params* t = root.table("plot");
+    t->check_keys({"size", "centre", "cyclic", "views", "principal_plane", "samples", "flux_samples", "ground"});
+    PlotDesc& plot = out_.scene.plot;
+    const Vec2 size = t->vec2("size", Vec2(0.0f));
+    if (!(size.x > 0 && size.y > 0 && size.x <= 1e6f && size.y <= 1e6f))
+      t->fail("size", "[plot] needs size = [x, y], positive metres (at most 1e6)");
+    const Vec2 centre = t->vec2("centre", Vec2(0.0f));
+    if (!(std::abs(centre.x) <= kMaxSceneCoordinate_m && std::abs(centre.y) <= kMaxSceneCoordinate_m))
+      t->fail("centre", fmt::format("the plot centre must lie within {:g} m of the origin", kMaxSceneCoordinate_m));
+    plot.defined = true;
+    plot.lo = centre - 0.5f * size;
+    plot.hi = centre + 0.5f * size;
+    plot.cyclic = t->boolean("cyclic", false);
+    PlotSettings& ps = out_.plot;
+    ps.samples = static_cast<int>(t->integer("samples", ps.samples, 1, 1 << 30));
+    ps.flux_samples = static_cast<int>(t->integer("flux_samples", ps.flux_samples, 1, 1 << 30));
+    if (const ParamValue* views = t->get("views")) {
+      if (views->kind != ParamValue::Kind::Array) t->fail("views", "views = [[zenith, azimuth], ...] in degrees");
+      for (const ParamValue& v : views->array) {
+        if (v.kind != ParamValue::Kind::Array || v.array.size() != 2 || !v.array[0].is_number() ||
+            !v.array[1].is_number())
+          t->fail("views", "each view is [zenith, azimuth] in degrees");
+        const double zenith = v.array[0].number(), azimuth = v.array[1].number();
+        if (!(zenith >= 0 && zenith <= 89.9) || !(azimuth >= -360 && azimuth <= 360))
+          t->fail("views", "view zenith must be in [0, 89.9] and azimuth in [-360, 360] degrees");
+        ps.views.push_back(
+            PlotView{static_cast<float>(zenith), static_cast<float>(azimuth), static_cast<float>(zenith)});
+      }
+    }
+    if (t->has("principal_plane")) {
+      const std::vector<double> pp = t->numbers("principal_plane");
+      if (pp.size() != 3) t->fail("principal_plane", "principal_plane = [from, to, step] in degrees");
+      try {
+        const std::vector<PlotView> v = principal_plane_views(static_cast<float>(pp[0]), static_cast<float>(pp[1]),
+                                                              static_cast<float>(pp[2]), out_.scene.sun.azimuth_deg);
+        ps.views.insert(ps.views.end(), v.begin(), v.end());
+      } catch (const Error& e) {
+        t->fail("principal_plane", e.what());
+      }
+    }
+    if (ps.views.size() > 100000) t->fail("views", "at most 100000 view directions");
+    if (t->has("ground"))
+      for (const std::string& name : t->strings("ground")) {
+        auto it = material_ids_.find(name);
+        if (it == material_ids_.end()) t->fail("ground", "unknown material '" + name + "'");
+        ps.ground_materials.push_back(it->second);
+      }
+  }
+
+  // [[leaves]]: leaf discs read from a RAMI leaf file (radius cx cy cz nx ny nz per row), one
+  // prototype instanced like a mesh.
+  void parse_leaves(const Params& root) {
+    for (const Params* t : root.tables("leaves")) {
+      t->check_keys({"name", "file", "material", "translate", "rotate", "scale", "object_id", "instances", "tile"});
+      Prototype p;
+      p.name = t->string("name", fmt::format("leaves{}", out_.scene.prototypes.size()));
+      p.disc_material = material_ref(*t, "material");
+      p.discs = read_leaf_discs(t->file_path("file"));
+      place(*t, out_.scene.add_prototype(std::move(p)));
+    }
+  }
+
+  // [[canopies]]: the RAMI abstract canopies, generated. type = "homogeneous" (a layer of discs over
+  // a rectangle) or "spheres" (one sphere of discs instanced at each centre).
+  void parse_canopies(const Params& root) {
+    for (const Params* t : root.tables("canopies")) {
+      t->check_keys({"name", "type", "material", "lai", "height", "size", "centre", "disc_radius", "leaf_angles",
+                     "seed", "sphere_radius", "centres", "centres_file", "translate", "rotate", "scale", "object_id",
+                     "instances", "tile"});
+      const std::string type = t->string("type");
+      Prototype p;
+      p.name = t->string("name", fmt::format("canopy{}", out_.scene.prototypes.size()));
+      p.disc_material = material_ref(*t, "material");
+      const float radius = static_cast<float>(t->real("disc_radius", 0.1, 1e-4, 100.0));
+      const uint64_t seed = static_cast<uint64_t>(t->integer("seed", 1, 0, INT64_MAX));
+      LeafAngles angles = LeafAngles::spherical;
+      try {
+        angles = parse_leaf_angles(t->string("leaf_angles", "uniform"));
+      } catch (const Error& e) {
+        t->fail("leaf_angles", e.what());
+      }
+      std::vector<Vec3> at{Vec3(0.0f)};
+      try {
+        if (type == "homogeneous") {
+          for (const char* key : {"sphere_radius", "centres", "centres_file"})
+            if (t->has(key)) t->fail(key, fmt::format("'{}' is for type = \"spheres\"", key));
+          const PlotDesc& plot = out_.scene.plot;
+          const Vec2 size = t->vec2("size", plot.defined ? plot.hi - plot.lo : Vec2(0.0f));
+          if (!(size.x > 0 && size.y > 0))
+            t->fail("size", "a homogeneous canopy needs size = [x, y] (or a [plot] to cover)");
+          const Vec2 centre = t->vec2("centre", plot.defined ? 0.5f * (plot.lo + plot.hi) : Vec2(0.0f));
+          p.discs = make_homogeneous_layer(centre - 0.5f * size, centre + 0.5f * size,
+                                           static_cast<float>(t->real("height", 1.0, 1e-3, 1e4)),
+                                           static_cast<float>(t->real("lai", 1.0, 1e-3, 100.0)), radius, angles, seed);
+        } else if (type == "spheres") {
+          for (const char* key : {"height", "size", "centre"})
+            if (t->has(key)) t->fail(key, fmt::format("'{}' is for type = \"homogeneous\"", key));
+          if (t->has("centres") == t->has("centres_file"))
+            t->fail("spheres need either centres = [[x, y, z], ...] or centres_file, not both");
+          if (t->has("centres_file")) {
+            at = read_points(t->file_path("centres_file"));
+          } else {
+            const ParamValue* c = t->get("centres");
+            at.clear();
+            if (c->kind == ParamValue::Kind::Array)
+              for (const ParamValue& v : c->array) {
+                if (v.kind != ParamValue::Kind::Array || v.array.size() != 3) break;
+                Vec3 q;
+                for (int k = 0; k < 3; ++k)
+                  q[k] = static_cast<float>(v.array[k].is_number() ? v.array[k].number() : NAN);
+                if (!std::isfinite(q.x + q.y + q.z)) break;
+                at.push_back(q);
+              }
+            if (at.empty() || (c->kind == ParamValue::Kind::Array && at.size() != c->array.size()))
+              t->fail("centres", "centres = [[x, y, z], ...] in metres");
+          }
+          p.discs = make_leaf_sphere(static_cast<float>(t->real("sphere_radius", 10.0, 1e-3, 1e4)),
+                                     static_cast<float>(t->real("lai", 5.0, 1e-3, 100.0)), radius, angles, seed);
+        } else {
+          t->fail("type", "canopy type must be \"homogeneous\" or \"spheres\", not \"" + type + "\"");
+        }
+      } catch (const ParseError&) {
+        throw;
+      } catch (const Error& e) {
+        t->fail(e.what());
+      }
+      place(*t, out_.scene.add_prototype(std::move(p)), kClassMesh, 0, at);
     }
   }
 
@@ -402,7 +565,7 @@ class SceneParser {
   void parse_trees(const Params& root) {
     for (const Params* t : root.tables("trees")) {
       t->check_keys({"name", "species", "seed", "bark", "dead_bark", "leaf", "flower", "leaves", "quality", "time",
-                     "wind", "years", "translate", "rotate", "scale", "object_id", "instances"});
+                     "wind", "years", "translate", "rotate", "scale", "object_id", "instances", "tile"});
       const std::filesystem::path file = t->file_path("species");
       TreeOptions options;
       options.quality = t->real("quality", 1.0, 0.01, 100.0);

@@ -7,6 +7,7 @@
 #include "core/image.h"
 #include "render/renderer.h"
 #include "render/scene.h"
+#include "render/sensors/plot_sensor.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -53,6 +54,9 @@ struct SceneFile {
   RenderSettings render;
   std::vector<std::string> bands{"rgb", "nir"};
   OutputSection output;
+  // [plot]: the plot sensor's view directions, sample counts and ground materials (the rectangle
+  // and `cyclic` are in scene.plot).
+  PlotSettings plot;
   std::vector<Band> custom_bands;  // [[bands]] tables: user SRFs, resolved by name before built-ins
   // Every file the scene read: the scene file itself (when loaded from one), then meshes, tables,
   // species files and templates (resolved paths). Outputs may not be any of them.

@@ -54,7 +54,7 @@ inline Scene small_forest_scene() {
   const uint32_t leaf =
       s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
   s.instances.push_back(
-      {s.add_prototype(Prototype{"ground", make_plane(100, 100), soil, {}, 0, {}, {}, {}, 0}), Mat4(1.0f), 0});
+      {s.add_prototype(Prototype{"ground", make_plane(100, 100), soil, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
   Prototype crown;
   crown.leaves = make_leaf_cloud(LeafCloudParams{}, 5);
   crown.leaf_material = leaf;

@@ -19,8 +19,8 @@ TEST(PositionAov, LiesOnTheHitSurfaceAndAlongTheCameraRay) {
   s.camera.target = {0, 1, 0.3f};
   const uint32_t m = s.add_material("grey", make_diffuse("grey", DenseSpectrum::constant(0.5f)));
   s.instances.push_back(
-      {s.add_prototype(Prototype{"ground", make_plane(20, 20), m, {}, 0, {}, {}, {}, 0}), Mat4(1.0f), 0});
-  s.instances.push_back({s.add_prototype(Prototype{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}, {}, 0}),
+      {s.add_prototype(Prototype{"ground", make_plane(20, 20), m, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
+  s.instances.push_back({s.add_prototype(Prototype{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}, {}, 0, {}, 0}),
                          glm::translate(Mat4(1.0f), Vec3(0.5f, 1, 0.0f)), 0});
   Renderer r(s, test::test_settings(48, 32, 1, 4));
   Film film = r.make_film();

@@ -31,7 +31,7 @@ Scene panel_scene(const DenseSpectrum& rho, float sun_elevation_deg) {
   std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 30;
   const uint32_t m = s.add_material("panel", make_diffuse("panel", rho));
   s.instances.push_back(
-      {s.add_prototype(Prototype{"panel", make_plane(1000, 1000), m, {}, 0, {}, {}, {}, 0}), Mat4(1.0f), 0});
+      {s.add_prototype(Prototype{"panel", make_plane(1000, 1000), m, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
   return s;
 }
 

@@ -259,7 +259,7 @@ TEST(LeafStem, AHitLeafNamesTheStemThatCarriesIt) {
   const uint32_t leaf =
       scene.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
   TreeMesh mesh = make_tree_mesh(model);
-  Prototype tree{"aspen", std::move(mesh.stems), bark, std::move(mesh.leaves), leaf, {}, {}, {}, 0};
+  Prototype tree{"aspen", std::move(mesh.stems), bark, std::move(mesh.leaves), leaf, {}, {}, {}, 0, {}, 0};
   const Vec3 offset(3, -2, 0);
   scene.instances.push_back({scene.add_prototype(std::move(tree)), glm::translate(Mat4(1.0f), offset), 7});
   Prototype cloud;

@@ -93,8 +93,8 @@ TEST(Transport, WhiteFurnaceClosedLambertianObjects) {
   // A closed box and a sphere of albedo 1 (instanced, scaled) under a uniform unit sky: radiance 1.
   Scene s = furnace_scene();
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
-  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}, {}, 0};
-  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0, {}, {}, {}, 0};
+  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}, {}, 0, {}, 0};
+  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0, {}, {}, {}, 0, {}, 0};
   s.instances.push_back({s.add_prototype(box), glm::translate(Mat4(1.0f), Vec3(-0.6f, 0, 0)), 0});
   s.instances.push_back(
       {s.add_prototype(sphere), glm::scale(glm::translate(Mat4(1.0f), Vec3(0.7f, 0, 0.5f)), Vec3(1.3f)), 0});
@@ -210,10 +210,10 @@ TEST(Transport, WhiteFurnaceConservativeHaze) {
   for (const HazeProfile profile : {HazeProfile::Homogeneous, HazeProfile::Exponential}) {
     Scene s = furnace_scene();
     const uint32_t white = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
-    s.instances.push_back({s.add_prototype(Prototype{"ball", make_sphere(1.0f, 24), white, {}, 0, {}, {}}),
+    s.instances.push_back({s.add_prototype(Prototype{"ball", make_sphere(1.0f, 24), white, {}, 0, {}, {}, {}, 0, {}, 0}),
                            glm::translate(Mat4(1.0f), Vec3(0, 0, 1.2f)), 0});
     s.instances.push_back(
-        {s.add_prototype(Prototype{"ground", make_plane(2000, 2000), white, {}, 0, {}, {}}), Mat4(1.0f), 0});
+        {s.add_prototype(Prototype{"ground", make_plane(2000, 2000), white, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
     s.haze.enabled = true;
     s.haze.profile = profile;
     s.haze.extinction_550 = 0.15f;
@@ -243,7 +243,7 @@ TEST(Transport, SunLitLambertianPlaneMatchesClosedForm) {
     const DenseSpectrum rho = DenseSpectrum::from_samples(l, v, Extrapolate::Clamp);
     const uint32_t m = s.add_material("soil", make_diffuse("soil", rho));
     s.instances.push_back(
-        {s.add_prototype(Prototype{"ground", make_plane(1000, 1000), m, {}, 0, {}, {}, {}, 0}), Mat4(1.0f), 0});
+        {s.add_prototype(Prototype{"ground", make_plane(1000, 1000), m, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
     const Image img = render_image(s, 16, 16, 256, 0, 4);
     const double cos_theta = std::sin(radians(elevation));
     expect_channels(
@@ -265,7 +265,7 @@ TEST(Transport, GroundBelowTheHorizonLightsAPlaneFromBelow) {
   const uint32_t m = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(0.8f)));
   const Mat4 flip = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, 2)), kPi, Vec3(1, 0, 0));
   s.instances.push_back(
-      {s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0, {}, {}, {}, 0}), flip, 0});
+      {s.add_prototype(Prototype{"ceiling", make_plane(2000, 2000), m, {}, 0, {}, {}, {}, 0, {}, 0}), flip, 0});
   const Image img = render_image(s, 16, 16, 256, 0, 4);
   DenseSpectrum ground = s.sky.spectrum;
   for (int i = 0; i < kLambdaSamples; ++i) ground[i] += s.sun.irradiance[i] * std::sin(radians(50.0f));
