@@ -362,9 +362,8 @@ class SceneParser {
     const auto put = [&](const Mat4& m, uint32_t id) {
       for (const Vec3& tile : tiles)
         for (const Vec3& a : at)
-          out_.scene.instances.push_back(
-              Instance{proto, glm::translate(Mat4(1.0f), tile) * m * glm::translate(Mat4(1.0f), a), id, class_id,
-                       variant_id});
+          out_.scene.instances.push_back(Instance{
+              proto, glm::translate(Mat4(1.0f), tile) * m * glm::translate(Mat4(1.0f), a), id, class_id, variant_id});
     };
     if (t.has("instances")) {
       for (const Params* it : t.tables("instances")) {
@@ -1167,8 +1166,7 @@ class SceneParser {
       rule.scale_range = range(*e, "scale", Vec2(1.0f), 1e-3, 1e3);
       const int count = static_cast<int>(e->integer("variants", 1, 1, 1000));
       const uint64_t first_seed = static_cast<uint64_t>(e->integer("seed", 1, 0, INT64_MAX - 1000));
-      for (int k = 0; k < count; ++k)
-        variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}});
+      for (int k = 0; k < count; ++k) variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}});
       rules.push_back(rule);
     }
     // Every variant once, in parallel; results (and the first error, in entry order) do not

@@ -282,6 +282,19 @@ TEST(CliRobustness, WillowWithSplittingClonesFinishesQuickly) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60));
 }
 
+// Whether process `pid` catches signal `sig` (its handler is installed: the bit in SigCgt of
+// /proc/PID/status), polled until `timeout`.
+bool wait_until_catching(pid_t pid, int sig, std::chrono::seconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);)
+      if (line.rfind("SigCgt:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (sig - 1) & 1u)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
 TEST(CliRobustness, SignalsDuringSceneLoadingEndTheProcessWithNonZeroStatus) {
   const fs::path dir = fresh_dir("robust_loading");
   // Slow to load: many distinct seeds of a large species, each generated and meshed.
@@ -295,8 +308,9 @@ TEST(CliRobustness, SignalsDuringSceneLoadingEndTheProcessWithNonZeroStatus) {
   for (const int sig : {SIGTERM, SIGINT}) {
     const fs::path log = dir / "log.txt";
     const pid_t pid = start_sylva("render " + q(dir / "slow.toml") + " -o " + q(dir / "o.exr"), log);
-    // Past start-up (libraries load slowly on a busy machine), well before the scene is loaded.
-    std::this_thread::sleep_for(std::chrono::milliseconds(3000));
+    // Past start-up — once the process catches the signal (libraries load slowly on a busy
+    // machine) — and well before the scene is loaded.
+    ASSERT_TRUE(wait_until_catching(pid, sig, std::chrono::seconds(60))) << read_text(log);
     const auto signalled = std::chrono::steady_clock::now();
     ::kill(pid, sig);
     EXPECT_EQ(wait_exit_code(pid), 128 + sig) << read_text(log);

@@ -210,10 +210,12 @@ TEST(Transport, WhiteFurnaceConservativeHaze) {
   for (const HazeProfile profile : {HazeProfile::Homogeneous, HazeProfile::Exponential}) {
     Scene s = furnace_scene();
     const uint32_t white = s.add_material("white", make_diffuse("white", DenseSpectrum::constant(1.0f)));
-    s.instances.push_back({s.add_prototype(Prototype{"ball", make_sphere(1.0f, 24), white, {}, 0, {}, {}, {}, 0, {}, 0}),
-                           glm::translate(Mat4(1.0f), Vec3(0, 0, 1.2f)), 0});
     s.instances.push_back(
-        {s.add_prototype(Prototype{"ground", make_plane(2000, 2000), white, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
+        {s.add_prototype(Prototype{"ball", make_sphere(1.0f, 24), white, {}, 0, {}, {}, {}, 0, {}, 0}),
+         glm::translate(Mat4(1.0f), Vec3(0, 0, 1.2f)), 0});
+    s.instances.push_back(
+        {s.add_prototype(Prototype{"ground", make_plane(2000, 2000), white, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f),
+         0});
     s.haze.enabled = true;
     s.haze.profile = profile;
     s.haze.extinction_550 = 0.15f;
