@@ -29,14 +29,7 @@ std::optional<double> line_triangle(const DVec3& o, const DVec3& d, const DVec3&
 Bounds3 placed_bounds(const TriangleMesh& mesh, const Mat4& world_from_object) {
   Bounds3 object;
   for (const Vec3& p : mesh.positions) object.extend(p);
-  Bounds3 world;
-  if (object.empty()) return world;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p((corner & 1) ? object.hi.x : object.lo.x, (corner & 2) ? object.hi.y : object.lo.y,
-                 (corner & 4) ? object.hi.z : object.lo.z);
-    world.extend(Vec3(world_from_object * Vec4(p, 1.0f)));
-  }
-  return world;
+  return transformed(object, world_from_object);
 }
 
 std::optional<float> highest_surface_z(const std::vector<PlacedMesh>& meshes, Vec2 xy) {

@@ -20,6 +20,17 @@ void append_mesh(TriangleMesh& dst, const TriangleMesh& src) {
   for (const glm::uvec3& t : src.triangles) dst.triangles.push_back(t + glm::uvec3(base));
 }
 
+Bounds3 transformed(const Bounds3& object, const Mat4& world_from_object) {
+  Bounds3 world;
+  if (object.empty()) return world;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p((corner & 1) ? object.hi.x : object.lo.x, (corner & 2) ? object.hi.y : object.lo.y,
+                 (corner & 4) ? object.hi.z : object.lo.z);
+    world.extend(Vec3(world_from_object * Vec4(p, 1.0f)));
+  }
+  return world;
+}
+
 Bounds3 bounds_of(const TreeMesh& mesh) {
   Bounds3 b;
   for (const Vec3& p : mesh.stems.positions) b.extend(p);

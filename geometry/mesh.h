@@ -58,6 +58,8 @@ struct Bounds3 {
   bool empty() const { return lo.x > hi.x; }
 };
 Bounds3 bounds_of(const TreeMesh& mesh);
+// The axis-aligned bounds of `object`'s eight corners moved by an affine transform; empty stays empty.
+Bounds3 transformed(const Bounds3& object, const Mat4& world_from_object);
 
 // Area of one leaf quad (two triangles), not counting the alpha cut-out.
 float leaf_quad_area(const LeafQuads& leaves, size_t i);

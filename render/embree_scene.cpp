@@ -390,6 +390,23 @@ bool cross_wall(CellWalk& walk, const Vec3& d, Vec2 lo, Vec2 hi, float z_lo, flo
   return ++crossings < kMaxCellCrossings;
 }
 
+// Starts a walk through a cyclic plot's cell: from the top (or bottom) of the geometry's heights
+// when the ray begins outside them, the origin wrapped into the cell. False when the ray never
+// reaches those heights.
+bool start_walk(float z_lo, float z_hi, Vec2 lo, Vec2 period, const Vec3& origin, const Vec3& d, CellWalk& walk) {
+  walk.origin = origin;
+  if (walk.origin.z > z_hi || walk.origin.z < z_lo) {
+    const float z = walk.origin.z > z_hi ? z_hi : z_lo;
+    if (d.z == 0.0f || (z - walk.origin.z) / d.z < 0) return false;
+    walk.travelled = (z - walk.origin.z) / d.z;
+    walk.origin += walk.travelled * d;
+    walk.origin.z = z;
+  }
+  walk.origin.x = wrap(walk.origin.x, lo.x, period.x);
+  walk.origin.y = wrap(walk.origin.y, lo.y, period.y);
+  return true;
+}
+
 }  // namespace
 
 bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
@@ -397,17 +414,7 @@ bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
   const Impl& m = *impl_;
   const Vec3& d = ray.direction;
   CellWalk walk;
-  walk.origin = ray.origin;
-  // Start at the top (or bottom) of the geometry's heights when the ray begins outside them.
-  if (walk.origin.z > m.z_hi || walk.origin.z < m.z_lo) {
-    const float z = walk.origin.z > m.z_hi ? m.z_hi : m.z_lo;
-    if (d.z == 0.0f || (z - walk.origin.z) / d.z < 0) return false;
-    walk.travelled = (z - walk.origin.z) / d.z;
-    walk.origin += walk.travelled * d;
-    walk.origin.z = z;
-  }
-  walk.origin.x = wrap(walk.origin.x, m.lo.x, m.period.x);
-  walk.origin.y = wrap(walk.origin.y, m.lo.y, m.period.y);
+  if (!start_walk(m.z_lo, m.z_hi, m.lo, m.period, ray.origin, d, walk)) return false;
   int crossings = 0;
   while (walk.travelled < ray.t_max) {
     next_segment(walk, d, m.lo, m.hi);
@@ -426,16 +433,7 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_ma
   const Impl& m = *impl_;
   const Vec3& d = direction;
   CellWalk walk;
-  walk.origin = origin;
-  if (walk.origin.z > m.z_hi || walk.origin.z < m.z_lo) {
-    const float z = walk.origin.z > m.z_hi ? m.z_hi : m.z_lo;
-    if (d.z == 0.0f || (z - walk.origin.z) / d.z < 0) return false;
-    walk.travelled = (z - walk.origin.z) / d.z;
-    walk.origin += walk.travelled * d;
-    walk.origin.z = z;
-  }
-  walk.origin.x = wrap(walk.origin.x, m.lo.x, m.period.x);
-  walk.origin.y = wrap(walk.origin.y, m.lo.y, m.period.y);
+  if (!start_walk(m.z_lo, m.z_hi, m.lo, m.period, origin, d, walk)) return false;
   int crossings = 0;
   while (walk.travelled < t_max) {
     next_segment(walk, d, m.lo, m.hi);

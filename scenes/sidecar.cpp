@@ -57,17 +57,6 @@ Bounds3 prototype_bounds(const Prototype& p) {
   return b;
 }
 
-Bounds3 transformed(const Bounds3& object, const Mat4& world_from_object) {
-  Bounds3 world;
-  if (object.empty()) return world;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 p((corner & 1) ? object.hi.x : object.lo.x, (corner & 2) ? object.hi.y : object.lo.y,
-                 (corner & 4) ? object.hi.z : object.lo.z);
-    world.extend(Vec3(world_from_object * Vec4(p, 1.0f)));
-  }
-  return world;
-}
-
 // What the image shows of one object id: visible pixels and their box (inclusive pixel bounds).
 struct Coverage {
   uint64_t pixels = 0;
