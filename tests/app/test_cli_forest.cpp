@@ -2,6 +2,7 @@
 // nothing is written; a small terrain + grass scene renders.
 
 #include "core/image.h"
+#include "tests/support/json_parse.h"
 #include "tests/support/run_command.h"
 
 #include <gtest/gtest.h>
@@ -85,7 +86,7 @@ TEST(CliForest, DefaultSceneIsAForest) {
   // `sylva render` without a scene: the four appendix species placed over procedural terrain, each
   // tree its own object id (data/examples/default.toml).
   const fs::path dir = fresh_dir("cli_forest_default");
-  const auto r = run_sylva("render -o " + q(dir / "d.exr") + " --res 64x36 --spp 1 --quiet", dir);
+  const auto r = run_sylva("render -o " + q(dir / "d.exr") + " --res 240x135 --spp 1 --quiet", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Image img = read_exr(dir / "d.exr");
   const int id = img.find_channel("id.object");
@@ -95,6 +96,17 @@ TEST(CliForest, DefaultSceneIsAForest) {
     for (int x = 0; x < img.width; ++x)
       if (img.at(x, y, id) > 0.0f) trees.insert(img.at(x, y, id));
   EXPECT_GE(trees.size(), 8u);  // many trees in view, told apart
+  // A camouflaged vehicle stands among the trees: in view, labelled, partly hidden.
+  const test::Json labels = test::parse_json(test::read_text(dir / "d.json"));
+  ASSERT_EQ(labels["targets"].array.size(), 1u);
+  const test::Json& target = labels["targets"][0];
+  EXPECT_EQ(target["label"].string, "vehicle");
+  int visible = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) visible += img.at(x, y, id) == static_cast<float>(target["object"].number);
+  EXPECT_GT(visible, 0);
+  EXPECT_EQ(target["visible_pixels"].number, visible);
+  EXPECT_LT(target["visible_pixels"].number, target["unoccluded_pixels"].number);  // partly hidden
   fs::remove_all(dir);
 }
 
