@@ -73,9 +73,12 @@ void print_scene_stats(const EmbreeStats& es) {
 }
 
 void print_summary(const std::string& what, const RenderStats& total, double wall) {
-  fmt::print(stderr, "wrote {}: {} samples in {:.2f} s render ({:.2f} s total): {:.3f} M samples/s, {:.3f} M rays/s\n",
+  fmt::print(stderr,
+             "wrote {}: {} samples in {:.2f} s render ({:.2f} s total): {:.3f} M samples/s, {:.3f} M rays/s "
+             "({:.2f} CPU-s: {:.3f} M rays per CPU-second)\n",
              what, total.samples, total.seconds, wall, total.samples / std::max(1e-9, total.seconds) / 1e6,
-             total.rays / std::max(1e-9, total.seconds) / 1e6);
+             total.rays / std::max(1e-9, total.seconds) / 1e6, total.cpu_seconds,
+             total.rays / std::max(1e-9, total.cpu_seconds) / 1e6);
 }
 
 // One image: a session that checkpoints and resumes. Returns the exit code.

@@ -12,6 +12,8 @@
 
 #include <chrono>
 
+#include <sys/resource.h>
+
 namespace sylva {
 
 const char* quantity_name(Quantity q) { return q == Quantity::reflectance ? "reflectance" : "radiance"; }
@@ -128,6 +130,20 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
   }
 }
 
+namespace {
+
+// User + system processor time of the whole process so far.
+double process_cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return seconds(u.ru_utime) + seconds(u.ru_stime);
+}
+
+}  // namespace
+
 RenderStats Renderer::render(Film& film) {
   return render(film, film.window(), SampleRange{film.first_sample(), static_cast<uint32_t>(settings_.spp)});
 }
@@ -140,6 +156,7 @@ RenderStats Renderer::render(Film& film, const PixelRegion& region, SampleRange 
   RenderStats stats;
   stats.embree = embree_.stats();
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start = process_cpu_seconds();
   const uint32_t target = samples.end;
   // A pixel's next sample index; it renders [next, target).
   const auto next_sample = [&](int x, int y) { return film.first_sample() + film.count(x, y); };
@@ -194,6 +211,7 @@ RenderStats Renderer::render(Film& film, const PixelRegion& region, SampleRange 
   stats.rays = rays.combine(std::plus<>());
   stats.samples = samples_added.combine(std::plus<>());
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats.cpu_seconds = process_cpu_seconds() - cpu_start;
   return stats;
 }
 

@@ -51,6 +51,9 @@ struct RenderSettings {
 
 struct RenderStats {
   double seconds = 0;
+  // Processor time the process spent during the call (user + system, every thread): the figure that
+  // stays comparable on a machine shared with other jobs, where `seconds` stretches.
+  double cpu_seconds = 0;
   uint64_t samples = 0;  // path samples added in this call
   uint64_t rays = 0;
   bool interrupted = false;

@@ -147,6 +147,7 @@ SessionResult RenderSession::run() {
     result.stats.samples += round.samples;
     result.stats.rays += round.rays;
     result.stats.seconds += round.seconds;
+    result.stats.cpu_seconds += round.cpu_seconds;
     if (!round.interrupted) break;
     const bool interrupted = options_.interrupt && options_.interrupt->load();
     if (!options_.checkpoint.empty()) {
