@@ -88,7 +88,7 @@ int render_image(const RenderOptions& opt, const RenderJob& job, const std::file
   check_before_rendering(opt, job, exr, png, false);
   if (!opt.quiet)
     for (const std::string& w : job.file.warnings) fmt::print(stderr, "{}\n", w);
-  const EmbreeScene embree(job.file.scene);
+  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings));
   if (!opt.quiet) print_scene_stats(embree.stats());
   SessionOptions session_options;
   session_options.checkpoint = checkpoint_of(exr);
@@ -145,7 +145,7 @@ int render_chunk(const RenderOptions& opt, RenderJob job, const std::filesystem:
   const ChunkWork work = chunk_work(spec, job.settings.width, job.settings.height, job.settings.spp);
   check_before_rendering(opt, job, out, {}, true);
   job.settings.cancel = &InterruptHandlers::flag();
-  const EmbreeScene embree(job.file.scene);
+  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings));
   if (!opt.quiet) print_scene_stats(embree.stats());
   InterruptHandlers::set(InterruptHandlers::OnSignal::set_flag);
   Renderer renderer(job.file.scene, embree, job.settings);

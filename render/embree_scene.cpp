@@ -16,15 +16,23 @@ namespace sylva {
 
 namespace {
 
+// A leaf quad reaches Embree as two triangles, (c0, c1, c3) and (c2, c3, c1) — the split Embree's
+// own quads use — because its triangle BVH traverses faster than its quad BVH (bench/README.md,
+// "Leaves as triangle pairs"). Triangle 2i+k of the leaf geometry is half k of leaf i; this maps a
+// hit's barycentrics (b1, b2) to the leaf's quad coordinates (u, v): b1 and b2 weigh c1 and c3 in
+// the first half and c3 and c1 in the second, where the quad point is (u+v−1)·c2 + (1−u)·c3 + (1−v)·c1.
+Vec2 leaf_quad_coordinates(unsigned triangle, float b1, float b2) {
+  return (triangle & 1u) ? Vec2(1.0f - b1, 1.0f - b2) : Vec2(b1, b2);
+}
+
 // Leaf alpha: reject hits outside the leaf outline (Weber & Penn §4.5 leaf shapes).
 void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto* shapes = static_cast<const LeafShape*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
-    const float u = RTCHitN_u(args->hit, args->N, i);
-    const float v = RTCHitN_v(args->hit, args->N, i);
-    if (!leaf_shape_inside(shapes[prim], u, v)) args->valid[i] = 0;
+    const Vec2 uv = leaf_quad_coordinates(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+    if (!leaf_shape_inside(shapes[prim >> 1], uv.x, uv.y)) args->valid[i] = 0;
   }
 }
 
@@ -101,6 +109,31 @@ void set_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
   }
 }
 
+// Robust mode keeps grazing hits on large triangles (a ground plane to the horizon, a terrain)
+// watertight; it costs about 15 % of the traversal (bench/README.md), so it is set only where the
+// geometry is that large: a prototype wider than this. Trees, grass and targets are traced in
+// Embree's fast mode, where a ray through a shared edge of their small triangles can, very rarely,
+// slip through.
+constexpr float kRobustExtent_m = 100.0f;
+
+// Per prototype: whether any placed copy of its triangles and leaves is wider than kRobustExtent_m
+// in world space (a plane may be a unit square scaled by its instance).
+std::vector<bool> robust_prototypes(const Scene& scene) {
+  std::vector<Bounds3> object(scene.prototypes.size());
+  for (size_t p = 0; p < scene.prototypes.size(); ++p) {
+    for (const Vec3& v : scene.prototypes[p].triangles.positions) object[p].extend(v);
+    for (const Vec3& v : scene.prototypes[p].leaves.corners) object[p].extend(v);
+  }
+  std::vector<bool> robust(scene.prototypes.size(), false);
+  for (const Instance& inst : scene.instances) {
+    if (inst.prototype >= object.size() || robust[inst.prototype] || object[inst.prototype].empty()) continue;
+    const Bounds3 b = transformed(object[inst.prototype], inst.world_from_object);
+    const Vec3 extent = b.hi - b.lo;
+    robust[inst.prototype] = std::max({extent.x, extent.y, extent.z}) > kRobustExtent_m;
+  }
+  return robust;
+}
+
 void error_callback(void*, RTCError code, const char* message) {
   // Embree reports API misuse here; surface it as an exception at the next check.
   fmt::print(stderr, "sylva: embree error {}: {}\n", static_cast<int>(code), message ? message : "");
@@ -160,9 +193,20 @@ struct EmbreeScene::Impl {
   }
 };
 
-EmbreeScene::EmbreeScene(const Scene& scene) : EmbreeScene(scene, TransportFaults{}) {}
+BvhBuild bvh_build_for(uint64_t path_samples) {
+  // About a minute of rendering on two cores: the thorough build's extra seconds pay for themselves.
+  constexpr uint64_t kThoroughFrom = uint64_t{1} << 24;
+  return path_samples >= kThoroughFrom ? BvhBuild::kThorough : BvhBuild::kFast;
+}
+
+EmbreeScene::EmbreeScene(const Scene& scene) : EmbreeScene(scene, TransportFaults{}, BvhBuild::kThorough) {}
 
 EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
+    : EmbreeScene(scene, faults, BvhBuild::kThorough) {}
+
+EmbreeScene::EmbreeScene(const Scene& scene, BvhBuild build) : EmbreeScene(scene, TransportFaults{}, build) {}
+
+EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhBuild build)
     : scene_(&scene), impl_(std::make_unique<Impl>()) {
   const auto start = std::chrono::steady_clock::now();
   g_embree_peak = g_embree_bytes.load();
@@ -175,11 +219,12 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
   rtcSetDeviceMemoryMonitorFunction(impl_->device, memory_monitor, nullptr);
   RTCDevice device = impl_->device;
 
-  for (const Prototype& proto : scene.prototypes) {
+  const std::vector<bool> robust = robust_prototypes(scene);
+  for (size_t p = 0; p < scene.prototypes.size(); ++p) {
+    const Prototype& proto = scene.prototypes[p];
     RTCScene s = rtcNewScene(device);
-    // Robust mode keeps grazing hits on large triangles (a ground plane to the horizon) watertight.
-    rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(s, RTC_BUILD_QUALITY_HIGH);
+    if (robust[p]) rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(s, build == BvhBuild::kThorough ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
     unsigned leaf_id = RTC_INVALID_GEOMETRY_ID;
     const TriangleMesh& tm = proto.triangles;
     if (!tm.triangles.empty()) {
@@ -207,11 +252,15 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
         throw Error(fmt::format("prototype '{}': leaf quads need 4 corners per leaf", proto.name));
       if (!lq.stem.empty() && lq.stem.size() != lq.size())
         throw Error(fmt::format("prototype '{}': leaf quads need one stem index per leaf (or none)", proto.name));
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
       set_vertices(g, lq.corners);
       auto* idx = static_cast<unsigned*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), lq.size()));
-      for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2 * lq.size()));
+      for (size_t i = 0; i < lq.size(); ++i) {
+        const auto c = static_cast<unsigned>(4 * i);
+        const unsigned halves[6] = {c, c + 1, c + 3, c + 2, c + 3, c + 1};
+        std::copy(halves, halves + 6, idx + 6 * i);
+      }
       rtcSetGeometryUserData(g, const_cast<LeafShape*>(lq.shapes.data()));
       rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter);
       if (!faults.no_shadow_alpha) rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter);
@@ -471,6 +520,12 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   if (hit->instance == RTC_INVALID_GEOMETRY_ID) return false;
   const uint32_t proto = impl_->instance_prototype[hit->instance];
   hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[proto];
+  if (hit->leaf) {
+    const Vec2 uv = leaf_quad_coordinates(rh.hit.primID, rh.hit.u, rh.hit.v);
+    hit->primitive = rh.hit.primID >> 1;
+    hit->u = uv.x;
+    hit->v = uv.y;
+  }
   hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
   hit->curve = rh.hit.geomID == impl_->curve_geom_id[proto];
   hit->disc = rh.hit.geomID == impl_->disc_geom_id[proto];

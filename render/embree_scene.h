@@ -45,6 +45,14 @@ struct EmbreeStats {
   size_t curves = 0, instanced_curves = 0;
 };
 
+// How much time the prototype BVHs' build may take. kThorough (Embree's high quality, with spatial
+// splits where robust mode does not forbid them) traverses about 10 % faster than kFast (medium
+// quality) but builds several times slower (bench/README.md): worth it when the render is long.
+enum class BvhBuild { kFast, kThorough };
+
+// The build worth choosing for a render of this many path samples (width · height · spp).
+BvhBuild bvh_build_for(uint64_t path_samples);
+
 class EmbreeScene {
  public:
   // Builds the BVHs, once: every pass over the scene (camera render, a light-view pass, a plot
@@ -53,6 +61,8 @@ class EmbreeScene {
   explicit EmbreeScene(const Scene& scene);
   // Test seam: the same scene with deliberate faults (render/testing/faults.h).
   EmbreeScene(const Scene& scene, const TransportFaults& faults);
+  EmbreeScene(const Scene& scene, BvhBuild build);
+  EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhBuild build);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

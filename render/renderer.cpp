@@ -144,6 +144,11 @@ double process_cpu_seconds() {
 
 }  // namespace
 
+BvhBuild bvh_build_for(const RenderSettings& settings) {
+  return bvh_build_for(uint64_t(std::max(settings.width, 0)) * uint64_t(std::max(settings.height, 0)) *
+                       uint64_t(std::max(settings.spp, 0)));
+}
+
 RenderStats Renderer::render(Film& film) {
   return render(film, film.window(), SampleRange{film.first_sample(), static_cast<uint32_t>(settings_.spp)});
 }

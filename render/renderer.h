@@ -72,6 +72,10 @@ struct MemoryEstimate {
 inline constexpr uint64_t kBvhBytesPerPrimitive = 180;
 MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& settings);
 
+// The BVH build for a whole render (every chunk, rank and resumed pass of it builds the same, so
+// their samples agree bit for bit).
+BvhBuild bvh_build_for(const RenderSettings& settings);
+
 class Renderer {
  public:
   // Renders `scene` through `embree`, built from that same scene by the caller and shared with any
