@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 
+#include <array>
 #include <cmath>
 
 namespace sylva {
@@ -41,6 +42,57 @@ CurveSet make_grass_patch(const GrassParams& params, uint64_t seed) {
     }
   }
   return c;
+}
+
+namespace {
+
+// Cubic Bézier basis weights at t and of the derivative.
+std::array<float, 4> bezier_weights(float t) {
+  const float s = 1.0f - t;
+  return {s * s * s, 3.0f * s * s * t, 3.0f * s * t * t, t * t * t};
+}
+
+std::array<float, 4> bezier_derivative_weights(float t) {
+  const float s = 1.0f - t;
+  return {-3.0f * s * s, 3.0f * s * s - 6.0f * s * t, 6.0f * s * t - 3.0f * t * t, 3.0f * t * t};
+}
+
+}  // namespace
+
+void tessellate_ribbons(const CurveSet& curves, int segments, std::vector<Vec3>& positions,
+                        std::vector<glm::uvec3>& triangles) {
+  if (segments < 1) throw Error("a ribbon needs at least one segment");
+  positions.reserve(positions.size() + curves.size() * 2 * size_t(segments + 1));
+  triangles.reserve(triangles.size() + curves.size() * 2 * size_t(segments));
+  for (size_t k = 0; k < curves.size(); ++k) {
+    const Vec4* cp = &curves.points[4 * k];
+    const Vec3* cn = &curves.normals[4 * k];
+    const auto first = static_cast<uint32_t>(positions.size());
+    Vec3 previous_side(0.0f);
+    for (int i = 0; i <= segments; ++i) {
+      const float t = static_cast<float>(i) / static_cast<float>(segments);
+      const std::array<float, 4> w = bezier_weights(t), dw = bezier_derivative_weights(t);
+      Vec4 p(0.0f);
+      Vec3 tangent(0.0f), normal(0.0f);
+      for (int j = 0; j < 4; ++j) {
+        p += w[j] * cp[j];
+        tangent += dw[j] * Vec3(cp[j]);
+        normal += w[j] * cn[j];
+      }
+      Vec3 side = glm::cross(tangent, normal);
+      const float length = glm::length(side);
+      // A degenerate frame (tangent along the normal) keeps the previous station's width direction.
+      side = length > 0.0f ? side / length : previous_side;
+      previous_side = side;
+      positions.push_back(Vec3(p) - p.w * side);
+      positions.push_back(Vec3(p) + p.w * side);
+    }
+    for (int i = 0; i < segments; ++i) {
+      const uint32_t a = first + 2 * uint32_t(i);  // a, a+1 at t_i; a+2, a+3 at t_(i+1)
+      triangles.emplace_back(a, a + 1, a + 3);
+      triangles.emplace_back(a, a + 3, a + 2);
+    }
+  }
 }
 
 }  // namespace sylva
