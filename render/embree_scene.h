@@ -1,8 +1,8 @@
 #pragma once
 // The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp (docs/design.md §6).
-// One BVH per prototype (triangles and leaf quads as two geometries of one Embree scene), one
-// single-level instance per placed copy. Leaf outlines are alpha masks applied in both the
-// intersection and the occlusion filter, so shadows see the cut-out. Leaf discs are Embree's
+// One BVH per prototype (triangles, leaf quads and grass ribbons as geometries of one Embree scene,
+// all handed to Embree as triangles), one single-level instance per placed copy. Leaf outlines are alpha masks applied
+// in both the intersection and the occlusion filter, so shadows see the cut-out. Leaf discs are Embree's
 // normal-oriented disc points (RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT: the exact disc of a centre,
 // radius and normal).
 //

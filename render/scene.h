@@ -30,7 +30,7 @@ struct Prototype {
   // solid, never empty.
   std::vector<HalfSpaceSolid> solids;
   std::vector<std::vector<uint32_t>> solid_palettes;
-  // Thin two-sided ribbons (grass blades: Embree normal-oriented Bézier curves) in `curve_material`
+  // Thin two-sided ribbons (grass blades: cubic Bézier ribbons, traced as triangle strips) in `curve_material`
   // (a leaf material: reflectance and transmittance).
   CurveSet curves;
   uint32_t curve_material = 0;

@@ -194,5 +194,58 @@ TEST(Grass, PatchBladesRootedInTheSquare) {
   EXPECT_EQ(make_grass_patch(g, 2).points, c.points);
 }
 
+// The triangle strips the renderer traces (tessellate_ribbons): each blade's strip starts at its
+// base control point and ends at its tip, spans the blade's width across its normal, and its area
+// converges to the ribbon's, ∫ 2 r(t) |P'(t)| dt, estimated here with a fine midpoint rule.
+TEST(Grass, RibbonStripsFollowTheBladesAndKeepTheirArea) {
+  GrassParams g;
+  g.patch_size_m = 0.5f;
+  g.density_per_m2 = 400.0f;
+  g.bend = 0.8f;
+  const CurveSet c = make_grass_patch(g, 5);
+  ASSERT_GT(c.size(), 50u);
+  const auto strip_area = [&](int segments, std::vector<Vec3>* points) {
+    std::vector<glm::uvec3> triangles;
+    points->clear();
+    tessellate_ribbons(c, segments, *points, triangles);
+    EXPECT_EQ(triangles.size(), c.size() * 2 * size_t(segments));
+    EXPECT_EQ(points->size(), c.size() * 2 * size_t(segments + 1));
+    double area = 0.0;
+    for (const glm::uvec3& t : triangles) {
+      EXPECT_LT(std::max({t.x, t.y, t.z}), points->size());
+      area += 0.5 * glm::length(glm::cross((*points)[t.y] - (*points)[t.x], (*points)[t.z] - (*points)[t.x]));
+    }
+    return area;
+  };
+  std::vector<Vec3> points;
+  const double six = strip_area(6, &points);
+  const size_t stride = 2 * 7;
+  for (size_t k = 0; k < c.size(); ++k) {
+    const Vec4 base = c.points[4 * k], tip = c.points[4 * k + 3];
+    const Vec3 mid_base = 0.5f * (points[stride * k] + points[stride * k + 1]);
+    const Vec3 mid_tip = 0.5f * (points[stride * k + stride - 2] + points[stride * k + stride - 1]);
+    EXPECT_LT(glm::length(mid_base - Vec3(base)), 1e-6f);
+    EXPECT_LT(glm::length(mid_tip - Vec3(tip)), 1e-6f);
+    EXPECT_NEAR(glm::length(points[stride * k + 1] - points[stride * k]), 2.0f * base.w, 1e-6f);
+    // The width runs across the blade's normal.
+    EXPECT_LT(std::abs(glm::dot(glm::normalize(points[stride * k + 1] - points[stride * k]), c.normals[4 * k])), 1e-3f);
+  }
+  double exact = 0.0;
+  constexpr int kSteps = 4000;
+  for (size_t k = 0; k < c.size(); ++k) {
+    const Vec4* p = &c.points[4 * k];
+    for (int i = 0; i < kSteps; ++i) {
+      const double t = (i + 0.5) / kSteps, s = 1.0 - t;
+      const double r = s * s * s * p[0].w + 3 * s * s * t * p[1].w + 3 * s * t * t * p[2].w + t * t * t * p[3].w;
+      const Vec3 d = float(3 * s * s) * Vec3(p[1] - p[0]) + float(6 * s * t) * Vec3(p[2] - p[1]) +
+                     float(3 * t * t) * Vec3(p[3] - p[2]);
+      exact += 2.0 * r * glm::length(d) / kSteps;
+    }
+  }
+  EXPECT_NEAR(six, exact, 0.01 * exact);
+  EXPECT_LT(std::abs(strip_area(24, &points) - exact), std::abs(six - exact) + 1e-9);
+  EXPECT_THROW(strip_area(0, &points), Error);
+}
+
 }  // namespace
 }  // namespace sylva
