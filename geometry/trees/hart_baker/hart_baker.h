@@ -29,7 +29,11 @@ enum class WoodClass : uint8_t {
 
 // The light-view pass that supplies eq. 14 (read by scenes/, stored here with the species).
 struct HartBakerLight {
-  int resolution = 256;     // pixels across the crown's bounding square
+  int resolution = 256;  // pixels across the window
+  // Side of the fixed window (§6.1's "natural aperture ... as a tree might receive if growing in a
+  // forest clearing"): the face, toward the light, of a cube of this side standing on the ground
+  // around the trunk. 0: the crown's own bounding square.
+  float window_m = 0.0f;
   int samples = 1;          // light directions per year (the paper takes one)
   float sun_weight = 0.8f;  // share of directions from the sun's path, the rest from the sky (Greene)
   float latitude_deg = 45.0f;
