@@ -409,6 +409,17 @@ TreeLeaves hart_baker_leaves(const HartBakerTree& tree, const HartBakerParams& p
   return leaves;
 }
 
+namespace {
+
+// The unit vector halfway between two unit directions (the first if they are opposite).
+Vec3 bisector(const Vec3& a, const Vec3& b) {
+  const Vec3 h = a + b;
+  const float len = glm::length(h);
+  return len > 1e-6f ? h / len : a;
+}
+
+}  // namespace
+
 TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams& params) {
   TreeModel model;
   std::vector<int32_t> stem_of(tree.size(), -1);
@@ -428,7 +439,15 @@ TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams
                                       : 0.0f);
     st.lobes.push_back(0);
     st.lobe_depth.push_back(0.0f);
-    const Frame f = Frame::from_z(tree.direction[i]);
+    // Yearly segments meet in the plane bisecting their axes (which may turn by up to apical_var_deg
+    // there): a segment continuing a living limb starts with its first ring in that plane, and the
+    // limb ends with a short last piece along the bisector, so both end rings coincide instead of
+    // leaving a wedge-shaped notch on the outside of the turn (the shared mesher sets a stem's first
+    // ring by its first frame and its last by its last piece).
+    const int32_t up = tree.parent[i];
+    const bool continues = up >= 0 && tree.apex[static_cast<size_t>(up)] == static_cast<int32_t>(i);
+    const Frame f = Frame::from_z(continues ? bisector(tree.direction[static_cast<size_t>(up)], tree.direction[i])
+                                            : tree.direction[i]);
     StemSections& sec = model.sections;
     const int32_t apex = tree.apex[i];
     const bool joined = apex >= 0 && tree.alive[static_cast<size_t>(apex)];
@@ -463,6 +482,19 @@ TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams
         if (arc >= 0.999f * l) break;
         add_section(arc), ++count;
       }
+    if (joined) {
+      const Vec3 along = bisector(tree.direction[i], tree.direction[static_cast<size_t>(apex)]);
+      const float eps = std::min(0.5f * r, 0.1f * l);
+      const float last_arc = sec.arc_m.back();
+      if (l - eps > last_arc && glm::dot(along, tree.direction[i]) < 1.0f) {
+        add_section(l);
+        const Vec3 tip = sec.positions.back();
+        sec.positions.back() = tip - along * eps;
+        sec.arc_m.back() = l - eps;
+        sec.radius_m.back() = R + (r - R) * (l - eps) / l;
+        ++count;
+      }
+    }
     add_section(l), ++count;
     st.section_count.push_back(count);
   }

@@ -288,14 +288,21 @@ TEST(HartBaker, YearlySegmentsJoinWithoutAStep) {
     HartBakerTree t = make_hart_baker_seedling(p, 3);
     for (int y = 0; y < p.years; ++y) grow_hart_baker_year(t, p, {});
     const TreeModel model = hart_baker_tree_model(t, p);
-    int joins = 0, stepped_before = 0;
-    float worst = 0.0f;
+    int joins = 0, stepped_before = 0, turned = 0;
+    float worst = 0.0f, worst_plane = 0.0f;
     for (size_t i = 0; i < t.size(); ++i) {
       const int32_t apex = t.apex[i];
       if (!t.alive[i] || apex < 0 || !t.alive[static_cast<size_t>(apex)]) continue;
       const uint32_t tip = model.stems.first_section[stem_of(t, i)] + model.stems.section_count[stem_of(t, i)] - 1;
       const uint32_t base = model.stems.first_section[stem_of(t, static_cast<size_t>(apex))];
       const float R = model.sections.radius_m[tip];
+      // Both end rings lie in one plane: the mesher sets the last ring by the last piece and the
+      // first by the first frame; both are the bisector of the two axes.
+      const Vec3 last_piece = glm::normalize(model.sections.positions[tip] - model.sections.positions[tip - 1]);
+      const Vec3 bisector = glm::normalize(t.direction[i] + t.direction[static_cast<size_t>(apex)]);
+      worst_plane = std::max(worst_plane, glm::length(last_piece - bisector));
+      worst_plane = std::max(worst_plane, glm::length(model.sections.frames[base].z - bisector));
+      turned += glm::dot(t.direction[i], t.direction[static_cast<size_t>(apex)]) < 0.9999f;
       worst = std::max(worst, std::abs(model.sections.radius_m[base] - R) / R);
       worst = std::max(worst, glm::length(model.sections.positions[base] - model.sections.positions[tip]) / R);
       // What a plain cone-per-segment drawing would show there: r_i against R_apex.
@@ -304,6 +311,8 @@ TEST(HartBaker, YearlySegmentsJoinWithoutAStep) {
     }
     ASSERT_GT(joins, 100);
     EXPECT_LT(worst, 1e-5f);
+    EXPECT_LT(worst_plane, 1e-3f);
+    EXPECT_GT(turned, joins / 2);  // the axes do turn at most joins
     EXPECT_GT(stepped_before, 0);  // the joins this test guards would otherwise step
   }
 }
