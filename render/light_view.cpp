@@ -31,7 +31,8 @@ void LightViewGeometry::add_blockers(const LeafQuads& leaves, const Mat4& world_
     add_quad(world(4 * i), world(4 * i + 1), world(4 * i + 2), world(4 * i + 3), -1);
 }
 
-LightView render_light_view(const LightViewGeometry& geometry, const Vec3& to_light, int resolution) {
+LightView render_light_view(const LightViewGeometry& geometry, const Vec3& to_light, int resolution,
+                            const LightWindow& window) {
   LightView view;
   const Frame frame = Frame::from_z(glm::normalize(to_light));
   const size_t n = geometry.triangle_count();
@@ -47,8 +48,9 @@ LightView render_light_view(const LightViewGeometry& geometry, const Vec3& to_li
     }
   }
   if (!(lo.x <= hi.x) || resolution <= 0) return view;
-  const float side = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.01f;
-  const Vec2 centre = 0.5f * (lo + hi);
+  const bool fixed = window.side_m > 0.0f;
+  const float side = fixed ? window.side_m : std::max({hi.x - lo.x, hi.y - lo.y, 1e-6f}) * 1.01f;
+  const Vec2 centre = fixed ? Vec2(frame.to_local(window.centre)) : 0.5f * (lo + hi);
   view.resolution = resolution;
   view.window_side_m = side;
   view.window_origin = centre - Vec2(0.5f * side);

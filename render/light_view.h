@@ -44,10 +44,21 @@ struct LightView {
   std::vector<float> depth;
 };
 
+// A fixed window (Hart & Baker §6.1: "the edges of this window form a natural aperture of
+// available light such as a tree might receive if growing in a forest clearing"): the square of
+// side `side_m` facing the light, centred on the projection of `centre`. side_m ≤ 0: the crown's
+// own bounding square.
+struct LightWindow {
+  Vec3 centre{0.0f};
+  float side_m = 0.0f;
+};
+
 // Renders `geometry` looking down `-to_light` (`to_light` a unit vector from the scene toward the
-// light). The window is the bounding square of the triangles with items ≥ 0 (the crown), widened
-// by 1 %; blockers outside it do not matter. An empty crown gives an empty view (resolution 0).
-LightView render_light_view(const LightViewGeometry& geometry, const Vec3& to_light, int resolution);
+// light). The window is `window` when it has a side, else the bounding square of the triangles
+// with items ≥ 0 (the crown), widened by 1 %; what lies outside it does not matter. An empty
+// crown gives an empty view (resolution 0).
+LightView render_light_view(const LightViewGeometry& geometry, const Vec3& to_light, int resolution,
+                            const LightWindow& window = {});
 
 // Intercepted area (m²) per item 0..item_count−1: pixels showing the item × pixel area.
 std::vector<float> intercepted_area(const LightView& view, size_t item_count);

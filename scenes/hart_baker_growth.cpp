@@ -31,6 +31,11 @@ LightViewGeometry hart_baker_light_geometry(const HartBakerTree& tree, const Har
   return g;
 }
 
+LightWindow hart_baker_light_window(const HartBakerParams& params) {
+  const float side = params.light.window_m;
+  return LightWindow{Vec3(0.0f, 0.0f, 0.5f * side), side};
+}
+
 std::vector<float> hart_baker_light(const HartBakerTree& tree, const HartBakerParams& params,
                                     const LightViewGeometry& obstacles) {
   std::vector<float> light(tree.size(), 0.0f);
@@ -41,7 +46,7 @@ std::vector<float> hart_baker_light(const HartBakerTree& tree, const HartBakerPa
     const Vec3 to_light = sample_light_direction(
         directions, hash_ids(tree.seed, static_cast<uint64_t>(tree.year), static_cast<uint64_t>(s), 0x11947u));
     const LightView view = render_light_view(hart_baker_light_geometry(tree, params, to_light, obstacles), to_light,
-                                             params.light.resolution);
+                                             params.light.resolution, hart_baker_light_window(params));
     const std::vector<float> area = intercepted_area(view, tree.size());
     for (size_t i = 0; i < light.size(); ++i) light[i] += area[i] / static_cast<float>(samples);
   }

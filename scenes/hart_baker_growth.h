@@ -19,6 +19,11 @@ namespace sylva {
 LightViewGeometry hart_baker_light_geometry(const HartBakerTree& tree, const HartBakerParams& params,
                                             const Vec3& to_light, const LightViewGeometry& obstacles);
 
+// The light pass's window: with `[light] window_m` the face toward the light of a cube of that
+// side standing on the ground around the trunk (§6.1's fixed aperture), else the crown's own
+// bounding square.
+LightWindow hart_baker_light_window(const HartBakerParams& params);
+
 // p_i for the tree's current year: the intercepted leaf area (m²) per limb, averaged over
 // params.light.samples directions drawn from hash_ids(tree.seed, tree.year, sample).
 std::vector<float> hart_baker_light(const HartBakerTree& tree, const HartBakerParams& params,

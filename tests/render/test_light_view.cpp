@@ -38,6 +38,33 @@ TEST(LightView, SquareLeafCoversItsProjectedArea) {
   }
 }
 
+// §6.1's fixed window: the same leaf gives the same area in any window that holds it (only the
+// pixel size changes), the window sits on the projection of its centre, and what lies outside the
+// window is not seen (the aperture clips it).
+TEST(LightView, FixedWindowIsAnAperture) {
+  LightViewGeometry g;
+  add_square(g, Vec3(1, 0, 2), Vec3(0, 0, 1), 1.0f, 0.0f, 0);
+  add_square(g, Vec3(6, 0, 2), Vec3(0, 0, 1), 1.0f, 0.0f, 1);  // outside a 4 m window about the origin
+  for (const float side : {4.0f, 8.0f}) {
+    const LightView view = render_light_view(g, Vec3(0, 0, 1), 512, LightWindow{Vec3(0, 0, 5), side});
+    ASSERT_EQ(view.resolution, 512);
+    EXPECT_FLOAT_EQ(view.window_side_m, side);
+    EXPECT_NEAR(view.window_origin.x + 0.5f * side, 0.0f, 1e-5f);
+    const std::vector<float> area = intercepted_area(view, 2);
+    EXPECT_NEAR(area[0], 1.0f, 0.01f) << side;
+    EXPECT_EQ(area[1], 0.0f) << side;
+  }
+  // Seen along a slant, the window's centre is the projection of the given point.
+  const Vec3 light = glm::normalize(Vec3(1, 0, 1));
+  const LightView slant = render_light_view(g, light, 64, LightWindow{Vec3(0, 0, 3), 10.0f});
+  const Vec3 centre = Frame::from_z(light).to_local(Vec3(0, 0, 3));
+  EXPECT_NEAR(slant.window_origin.x + 5.0f, centre.x, 1e-5f);
+  EXPECT_NEAR(slant.window_origin.y + 5.0f, centre.y, 1e-5f);
+  // The crown's own square (no side) still holds both leaves.
+  const std::vector<float> own = intercepted_area(render_light_view(g, Vec3(0, 0, 1), 1024), 2);
+  EXPECT_NEAR(own[1], 1.0f, 0.01f);
+}
+
 TEST(LightView, OccludedLeavesGetNothing) {
   LightViewGeometry g;
   add_square(g, Vec3(0, 0, 0), Vec3(0, 0, 1), 1.0f, 0.0f, 0);     // under the blocker

@@ -185,19 +185,29 @@ TEST(HartBakerGrowth, ExampleSceneLoads) {
 
 // Figure 1 of the paper, measured: mean over seeds.
 struct Outcome {
-  double com_offset_m = 0, light_m2 = 0, branches = 0, mass_kg = 0;
+  double com_offset_m = 0, light = 0, branches = 0, mass_kg = 0;
 };
+
+// The light measure of §6.1, the same for every tree: the share of a fixed window's pixels that
+// show a leaf of the tree (the paper's "percentage of pixels"), averaged over 24 directions from
+// the growth pass's sun and sky distribution. The window (the face toward the light of a 14 m
+// cube standing on the ground about the trunk) holds every 12-year crown of these seeds from every
+// direction, at 512 pixels across (2.7 cm, under half a leaf's width), so both trees are seen at
+// the same resolution, unlike each crown's own bounding square.
+constexpr float kMeasureWindowM = 14.0f;
 
 Outcome grow_and_measure(HartBakerParams p, uint64_t seed, int years) {
   const HartBakerTree t = grow_hart_baker_tree(p, seed, years, {});
   HartBakerParams lit = p;
   lit.phototropism = true;
   lit.light.samples = 24;
+  lit.light.window_m = kMeasureWindowM;
+  lit.light.resolution = 512;
   const std::vector<float> light = hart_baker_light(t, lit, {});
   const LimbSums s = compute_limb_sums(t, lit, light);
   Outcome o;
   o.com_offset_m = std::hypot(s.X[0].x, s.X[0].y);
-  o.light_m2 = s.P[0];
+  o.light = s.P[0] / (kMeasureWindowM * kMeasureWindowM);
   o.mass_kg = s.M[0];
   for (size_t i = 1; i < t.size(); ++i) o.branches += t.alive[i];
   return o;
@@ -221,33 +231,38 @@ TEST(HartBakerGrowth, Figure1BalanceAndPhototropism) {
                   ol = grow_and_measure(phototropic, seed, years);
     g.com_offset_m += og.com_offset_m / kSeeds;
     b.com_offset_m += ob.com_offset_m / kSeeds;
-    g.light_m2 += og.light_m2 / kSeeds;
-    l.light_m2 += ol.light_m2 / kSeeds;
+    l.com_offset_m += ol.com_offset_m / kSeeds;
+    g.light += og.light / kSeeds;
+    l.light += ol.light / kSeeds;
     g.branches += og.branches / kSeeds;
     l.branches += ol.branches / kSeeds;
     g.mass_kg += og.mass_kg / kSeeds;
     l.mass_kg += ol.mass_kg / kSeeds;
-    const double per_branch = (ol.light_m2 / og.light_m2) / (ol.branches / og.branches);
+    std::printf("seed %d: window covered genetic %.3f phototropic %.3f; branches %.0f, %.0f; mass %.1f, %.1f kg\n",
+                static_cast<int>(seed), og.light, ol.light, og.branches, ol.branches, og.mass_kg, ol.mass_kg);
+    const double per_branch = (ol.light / og.light) / (ol.branches / og.branches);
     light_per_branch += per_branch / kSeeds;
     sheds_more_than_it_loses += per_branch > 1.0;
   }
   RecordProperty("com_offset_genetic_m", std::to_string(g.com_offset_m));
   RecordProperty("com_offset_balanced_m", std::to_string(b.com_offset_m));
-  RecordProperty("light_ratio", std::to_string(l.light_m2 / g.light_m2));
+  RecordProperty("light_ratio", std::to_string(l.light / g.light));
   RecordProperty("branch_ratio", std::to_string(l.branches / g.branches));
   RecordProperty("mass_ratio", std::to_string(l.mass_kg / g.mass_kg));
   std::printf(
-      "Figure 1: centre of mass offset genetic %.4f m, balanced %.4f m; phototropic/genetic light %.3f, "
-      "branches %.3f, mass %.3f, light per branch %.3f\n",
-      g.com_offset_m, b.com_offset_m, l.light_m2 / g.light_m2, l.branches / g.branches, l.mass_kg / g.mass_kg,
+      "Figure 1: centre of mass offset genetic %.4f m, balanced %.4f m, phototropic %.4f m; phototropic/genetic "
+      "light %.3f, branches %.3f, mass %.3f, light per branch %.3f\n",
+      g.com_offset_m, b.com_offset_m, l.com_offset_m, l.light / g.light, l.branches / g.branches, l.mass_kg / g.mass_kg,
       light_per_branch);
-  // Measured (docs/hart_baker.md "Figure 1", seeds 1–8): balanced/genetic offset ≈ 0.34;
-  // phototropic/genetic light ≈ 0.70 with ≈ 0.57 of the branches and 0.73 of the mass, light per
-  // branch ≈ 1.25 (per seed 1.1–1.5). The paper's "same light with 25 % of the branches" is not
-  // reached (docs/hart_baker.md says why); the bounds hold the direction of the effect: shedding
-  // removes far more branches than light, in every seed.
+  // The balanced tree stands over its trunk: measured 0.34× the genetic tree's offset (seeds 1–8).
   EXPECT_LT(b.com_offset_m, 0.5 * g.com_offset_m);
-  EXPECT_GT(l.light_m2, 0.55 * g.light_m2);
+  // Phototropism: shedding removes far more branches than light, in every seed (light per branch
+  // 1.1–1.5 per seed). The paper's "about the same light with ~25 % of the branches and mass" is
+  // NOT reproduced (measured: light ≈ 0.66, branches ≈ 0.5, mass ≈ 0.7; docs/hart_baker.md
+  // "Figure 1" gives the figures and what was tried), so these bounds hold what the model does,
+  // with a margin of about two standard errors of the six-seed means (per-seed light ratios
+  // spread 0.5–0.83).
+  EXPECT_GT(l.light, 0.5 * g.light);
   EXPECT_LT(l.branches, 0.75 * g.branches);
   EXPECT_GT(light_per_branch, 1.1);
   EXPECT_EQ(sheds_more_than_it_loses, kSeeds);

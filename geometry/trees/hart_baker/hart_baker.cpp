@@ -185,6 +185,28 @@ LimbSums compute_limb_sums(const HartBakerTree& tree, const HartBakerParams& par
   return s;
 }
 
+std::vector<double> reaction_wood_reach(const HartBakerTree& tree, const HartBakerParams& params, const LimbSums& s) {
+  const size_t n = tree.size();
+  std::vector<double> reach(n, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    if (!tree.alive[i]) continue;
+    const DVec3 dir = to_d(tree.direction[i]);
+    const double lever = glm::length(horizontal(s.X[i] - to_d(tree.base[i])));  // X̄_i sin θ_X
+    const bool continues = i == 0 || tree.apex[static_cast<size_t>(tree.parent[i])] == static_cast<int32_t>(i);
+    const double sin_d =
+        continues ? 1.0 : glm::length(glm::cross(dir, to_d(tree.direction[static_cast<size_t>(tree.parent[i])])));
+    const double support = supports(tree.radius_m[i], params.wood_density_kg_m3, params.max_height_m);  // F_R / g
+    if (lever > 0.0 && support > 0.0 && sin_d > 1e-6) reach[i] = s.M[i] * lever / (support * sin_d);    // eq. 25
+  }
+  return reach;
+}
+
+double reaction_wood_falloff(double u) {
+  if (u <= 0.0) return 1.0;
+  if (u >= 1.0) return 0.0;
+  return (1.0 - u) * (1.0 - u) * (1.0 + 2.0 * u);
+}
+
 HartBakerTree make_hart_baker_seedling(const HartBakerParams& params, uint64_t seed) {
   HartBakerTree t;
   t.seed = seed;
@@ -257,29 +279,22 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
         e[static_cast<size_t>(j)] = s.G[static_cast<size_t>(j)] / s.G[i] * e_rest;
   }
 
-  // Reaction wood (§5.1). Eq. 24–25: δ_i = W_i X̄_i sin θ_X / (F_R sin θ_d), with W_i X̄_i sin θ_X the
-  // moment of the supported weight about the base (its horizontal lever), F_R the support of the
-  // base's wood (eq. 6) and θ_d the angle to the parent limb (90° for an axis' own yearly
-  // continuation, the trunk's included). The year's
-  // eccentric growth is reaction_wood·ΔR·min(1, δ_i/R_i) on the side ŷ: towards the load for
-  // gymnosperms (compression wood below), away from it for angiosperms (tension wood above).
+  // Reaction wood (§5.1). δ_i of eq. 24–25 (reaction_wood_reach, on the grown radii: F_R is the
+  // support of this year's base). The year's eccentric growth is reaction_wood·ΔR·min(1, δ_i/R_i) on
+  // the side ŷ: towards the load for gymnosperms (compression wood below), away from it for
+  // angiosperms (tension wood above).
+  const std::vector<double> reach = reaction_wood_reach(tree, params, s);
   for (size_t i = 0; i < n; ++i) {
     if (!tree.alive[i]) continue;
     const DVec3 dir = to_d(tree.direction[i]);
-    const DVec3 lever = horizontal(s.X[i] - to_d(tree.base[i]));
     // The side the supported weight bends the limb toward, across its axis: dir × (v × ẑ) with v the
     // lever (for an upright limb the side toward the load; for a leaning one the underside).
     const DVec3 across = glm::cross(dir, glm::cross(s.X[i] - to_d(tree.base[i]), DVec3(0, 0, 1)));
-    // A yearly continuation of an axis (the trunk's included) bends as the axis does: θ_d = 90°.
-    const bool continues = i == 0 || tree.apex[static_cast<size_t>(tree.parent[i])] == static_cast<int32_t>(i);
-    const double sin_d =
-        continues ? 1.0 : glm::length(glm::cross(dir, to_d(tree.direction[static_cast<size_t>(tree.parent[i])])));
-    const double support = supports(tree.radius_m[i], d, H);
     const double across_len = glm::length(across);
-    if (across_len > 1e-9 && support > 0.0 && sin_d > 1e-6) {
-      const double delta = s.M[i] * glm::length(lever) / (support * sin_d);  // eq. 25
+    if (across_len > 1e-9 && reach[i] > 0.0) {
       const double dR = tree.radius_m[i] - old_radius[i];
-      const double amount = params.reaction_wood * dR * std::min(1.0, delta / std::max(1e-6, double(tree.radius_m[i])));
+      const double amount =
+          params.reaction_wood * dR * std::min(1.0, reach[i] / std::max(1e-6, double(tree.radius_m[i])));
       const DVec3 side = (params.wood == WoodClass::Gymnosperm ? 1.0 : -1.0) * across / across_len;
       tree.reaction_m[i] += Vec3(side * (0.5 * amount));
     }
@@ -394,9 +409,21 @@ TreeLeaves hart_baker_leaves(const HartBakerTree& tree, const HartBakerParams& p
   return leaves;
 }
 
+namespace {
+
+// The unit vector halfway between two unit directions (the first if they are opposite).
+Vec3 bisector(const Vec3& a, const Vec3& b) {
+  const Vec3 h = a + b;
+  const float len = glm::length(h);
+  return len > 1e-6f ? h / len : a;
+}
+
+}  // namespace
+
 TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams& params) {
   TreeModel model;
   std::vector<int32_t> stem_of(tree.size(), -1);
+  const std::vector<double> reach = reaction_wood_reach(tree, params, compute_limb_sums(tree, params, {}));
   for (size_t i = 0; i < tree.size(); ++i) {
     if (!tree.alive[i]) continue;
     stem_of[i] = static_cast<int32_t>(model.stems.size());
@@ -406,26 +433,70 @@ TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams
     st.parent.push_back(parent);
     st.clone_of.push_back(-1);
     st.first_section.push_back(static_cast<uint32_t>(model.sections.size()));
-    st.section_count.push_back(2);
     st.length_m.push_back(tree.length_m[i]);
     st.base_radius_m.push_back(tree.radius_m[i]);
     st.offset_m.push_back(parent >= 0 ? glm::length(tree.base[i] - tree.base[static_cast<size_t>(tree.parent[i])])
                                       : 0.0f);
     st.lobes.push_back(0);
     st.lobe_depth.push_back(0.0f);
-    const Frame f = Frame::from_z(tree.direction[i]);
+    // Yearly segments meet in the plane bisecting their axes (which may turn by up to apical_var_deg
+    // there): a segment continuing a living limb starts with its first ring in that plane, and the
+    // limb ends with a short last piece along the bisector, so both end rings coincide instead of
+    // leaving a wedge-shaped notch on the outside of the turn (the shared mesher sets a stem's first
+    // ring by its first frame and its last by its last piece).
+    const int32_t up = tree.parent[i];
+    const bool continues = up >= 0 && tree.apex[static_cast<size_t>(up)] == static_cast<int32_t>(i);
+    const Frame f = Frame::from_z(continues ? bisector(tree.direction[static_cast<size_t>(up)], tree.direction[i])
+                                            : tree.direction[i]);
     StemSections& sec = model.sections;
     const int32_t apex = tree.apex[i];
     const bool joined = apex >= 0 && tree.alive[static_cast<size_t>(apex)];
-    sec.positions.push_back(tree.base[i] + tree.reaction_m[i]);
-    sec.positions.push_back(joined ? tree.base[static_cast<size_t>(apex)] + tree.reaction_m[static_cast<size_t>(apex)]
-                                   : tree.base[i] + tree.direction[i] * tree.length_m[i]);
-    sec.frames.push_back(f);
-    sec.frames.push_back(f);
-    sec.radius_m.push_back(tree.radius_m[i]);
-    sec.radius_m.push_back(joined ? tree.radius_m[static_cast<size_t>(apex)] : tree.tip_radius(i, params));
-    sec.arc_m.push_back(0.0f);
-    sec.arc_m.push_back(tree.length_m[i]);
+    const float l = tree.length_m[i];
+    const Vec3 offset = tree.reaction_m[i];
+    const Vec3 next_offset = joined ? tree.reaction_m[static_cast<size_t>(apex)] : Vec3(0.0f);
+    const float R = tree.radius_m[i];
+    const float r = joined ? tree.radius_m[static_cast<size_t>(apex)] : tree.tip_radius(i, params);
+    // Eq. 31: the offset times c(s/δ) along the limb, plus the continuation's own offset coming in
+    // linearly, on the cone's axis and radius. Sections at s = 0, δ/4, …, δ (while inside the limb)
+    // and at the tip.
+    // δ at least the limb's base radius (a bulge spans the limb's thickness, also when this year's
+    // lever is ~0 but earlier years' offset remains) and at most its length.
+    const float delta = glm::length(offset) > 0.0f ? std::clamp(static_cast<float>(reach[i]), std::min(R, l), l) : 0.0f;
+    auto add_section = [&](float arc) {
+      const float t = l > 0.0f ? arc / l : 0.0f;
+      const float c = delta > 0.0f ? static_cast<float>(reaction_wood_falloff(arc / delta)) : 0.0f;
+      // The tip is the continuation's base exactly (the limb's length is recomputed from its mass
+      // each year, so base + direction·l can differ from it by rounding).
+      const Vec3 axis =
+          joined && arc >= l ? tree.base[static_cast<size_t>(apex)] : tree.base[i] + tree.direction[i] * arc;
+      sec.positions.push_back(axis + offset * c + next_offset * t);
+      sec.frames.push_back(f);
+      sec.radius_m.push_back(R + (r - R) * t);
+      sec.arc_m.push_back(arc);
+    };
+    uint32_t count = 0;
+    add_section(0.0f), ++count;
+    if (delta > 0.0f)
+      for (int k = 1; k <= kReactionSections; ++k) {
+        const float arc = delta * static_cast<float>(k) / kReactionSections;
+        if (arc >= 0.999f * l) break;
+        add_section(arc), ++count;
+      }
+    if (joined) {
+      const Vec3 along = bisector(tree.direction[i], tree.direction[static_cast<size_t>(apex)]);
+      const float eps = std::min(0.5f * r, 0.1f * l);
+      const float last_arc = sec.arc_m.back();
+      if (l - eps > last_arc && glm::dot(along, tree.direction[i]) < 1.0f) {
+        add_section(l);
+        const Vec3 tip = sec.positions.back();
+        sec.positions.back() = tip - along * eps;
+        sec.arc_m.back() = l - eps;
+        sec.radius_m.back() = R + (r - R) * (l - eps) / l;
+        ++count;
+      }
+    }
+    add_section(l), ++count;
+    st.section_count.push_back(count);
   }
   model.leaves = hart_baker_leaves(tree, params);
   for (int32_t& s : model.leaves.stem) s = stem_of[static_cast<size_t>(s)];

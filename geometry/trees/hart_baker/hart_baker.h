@@ -29,7 +29,11 @@ enum class WoodClass : uint8_t {
 
 // The light-view pass that supplies eq. 14 (read by scenes/, stored here with the species).
 struct HartBakerLight {
-  int resolution = 256;     // pixels across the crown's bounding square
+  int resolution = 256;  // pixels across the window
+  // Side of the fixed window (§6.1's "natural aperture ... as a tree might receive if growing in a
+  // forest clearing"): the face, toward the light, of a cube of this side standing on the ground
+  // around the trunk. 0: the crown's own bounding square.
+  float window_m = 0.0f;
   int samples = 1;          // light directions per year (the paper takes one)
   float sun_weight = 0.8f;  // share of directions from the sun's path, the rest from the sky (Greene)
   float latitude_deg = 45.0f;
@@ -179,6 +183,21 @@ struct LimbSums {
 LimbSums compute_limb_sums(const HartBakerTree& tree, const HartBakerParams& params,
                            const std::vector<float>& light_m2);
 
+// Reaction wood's reach δ_i along each limb (§5.1, eq. 24–25 as written):
+//   W_i X̄_i sin θ_X = δ_i F_R sin θ_d  ⇒  δ_i = W_i X̄_i sin θ_X / (F_R sin θ_d),
+// with W_i = M_i g the weight the limb supports, X̄_i sin θ_X the horizontal lever from the limb's
+// base to X̄_i (θ_X its angle from above the base), F_R = supports(R_i) g the support of the
+// base's wood (eq. 6, "the reaction wood has the same strength as the wood at the branch's base"),
+// and θ_d the limb's angle to its parent (90° for the trunk and for an axis' own yearly
+// continuation, which bends with the axis). g cancels. 0 where there is nothing to resist (no
+// lever, no wood, or a limb along its parent) and for dead limbs. From the sums of this state.
+std::vector<double> reaction_wood_reach(const HartBakerTree& tree, const HartBakerParams& params, const LimbSums& sums);
+
+// Eq. 31's falloff c(t l / δ) of the reaction-wood bulge along a limb, at u = arc / δ: the paper
+// leaves c open; Sylva takes 1 − smoothstep, (1 − u)²(1 + 2u) on [0, 1] and 0 beyond, so the bulge
+// is full and flat at the base, ends at δ and meets the plain limb there without a crease.
+double reaction_wood_falloff(double u);
+
 // What one year's step did, for tests and statistics.
 struct GrowthReport {
   double mass_allotted_kg = 0;  // e_0 of eq. 17
@@ -210,9 +229,12 @@ TreeLeaves hart_baker_leaves(const HartBakerTree& tree, const HartBakerParams& p
 // The base section carries the limb's reaction wood (§5.1, eq. 31): it is the outer ring, radius
 // R_i centred on the ring centre's offset, so the side ŷ stands out by the offset and the other
 // side falls back by as much (eq. 31's bulge of Δr = twice the offset on a concentric core of
-// R_i − offset, as the rings show it); the tip section is the base section of the continuation,
-// so the yearly segments of an axis join without a step in radius or centre (docs/hart_baker.md
-// "Surface").
+// R_i − offset, as the rings show it). Along the limb the offset falls off as eq. 31's
+// c(t l_i / δ_i) (reaction_wood_falloff, δ_i from reaction_wood_reach, at most the limb's length),
+// drawn by kReactionSections sections over [0, δ_i]; the tip section is the base section of the
+// continuation (whose own offset comes in linearly along the segment), so the yearly segments of an
+// axis join without a step in radius or centre (docs/hart_baker.md "Surface").
+inline constexpr int kReactionSections = 4;
 TreeModel hart_baker_tree_model(const HartBakerTree& tree, const HartBakerParams& params);
 
 // Tree-model registry function. The model a scene sees is grown by scenes/ with the light pass

@@ -56,6 +56,7 @@ HartBakerParams HartBakerParams::create(const Params& params, std::vector<std::s
     HartBakerLight& l = p.light;
     l.resolution = static_cast<int>(light->integer("resolution", l.resolution, 16, 8192));
     l.samples = static_cast<int>(light->integer("samples", l.samples, 1, 1024));
+    l.window_m = light->real("window_m", l.window_m, 0, 1000);
     l.sun_weight = light->real("sun_weight", l.sun_weight, 0, 1);
     l.latitude_deg = light->real("latitude_deg", l.latitude_deg, -90, 90);
     l.first_day = static_cast<int>(light->integer("first_day", l.first_day, 1, 365));

@@ -19,12 +19,16 @@ TrunkRings trunk_rings(const HartBakerTree& tree, const HartBakerParams& params,
     i = static_cast<size_t>(tree.apex[i]);
   const float h = height_m - tree.base[i].z;
   if (h < 0.0f) return rings;
+  // Each year's reaction-wood shift fades along the segment as eq. 31's c(s/δ), δ of eq. 25 as the
+  // drawn surface has it (hart_baker_tree_model): at least the base radius, at most the length.
+  const float reach = static_cast<float>(reaction_wood_reach(tree, params, compute_limb_sums(tree, params, {}))[i]);
   const std::vector<float>& radius = tree.ring_radius_m[i];
   for (size_t y = 0; y < radius.size(); ++y) {
     const float l = tree.ring_length_m[i][y];
     if (l <= h) continue;
     const float along = h / l;
-    const Vec3 offset = tree.ring_offset_m[i][y] * (1.0f - along);
+    const float delta = std::clamp(reach, std::min(radius[y], l), l);
+    const Vec3 offset = tree.ring_offset_m[i][y] * static_cast<float>(reaction_wood_falloff(h / delta));
     rings.year.push_back(static_cast<int>(y) + 1 + tree.born[i]);
     rings.centre_m.push_back(Vec2(offset.x, offset.y));
     rings.radius_m.push_back(radius[y] * (1.0f - (1.0f - params.tip_ratio) * along));

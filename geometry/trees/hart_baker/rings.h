@@ -14,7 +14,8 @@ namespace sylva {
 // innermost first, in the horizontal plane (world x, y; metres). The trunk is the chain of yearly
 // segments from limb 0; in the segment holding the height (h above its base), a year's radius is
 // its cone's radius there, R_y (1 − (1 − tip_ratio)·h/l_y), and its centre the year's
-// reaction-wood offset fading linearly to nothing at the tip (eq. 31's falloff along the limb).
+// reaction-wood offset times eq. 31's falloff c(h/δ) (reaction_wood_falloff, δ of eq. 25 as the
+// drawn surface takes it: at least the base radius, at most the segment's length).
 struct TrunkRings {
   float height_m = 0.0f;
   std::vector<int> year;  // 1-based year of growth that laid the ring down

@@ -288,14 +288,21 @@ TEST(HartBaker, YearlySegmentsJoinWithoutAStep) {
     HartBakerTree t = make_hart_baker_seedling(p, 3);
     for (int y = 0; y < p.years; ++y) grow_hart_baker_year(t, p, {});
     const TreeModel model = hart_baker_tree_model(t, p);
-    int joins = 0, stepped_before = 0;
-    float worst = 0.0f;
+    int joins = 0, stepped_before = 0, turned = 0;
+    float worst = 0.0f, worst_plane = 0.0f;
     for (size_t i = 0; i < t.size(); ++i) {
       const int32_t apex = t.apex[i];
       if (!t.alive[i] || apex < 0 || !t.alive[static_cast<size_t>(apex)]) continue;
       const uint32_t tip = model.stems.first_section[stem_of(t, i)] + model.stems.section_count[stem_of(t, i)] - 1;
       const uint32_t base = model.stems.first_section[stem_of(t, static_cast<size_t>(apex))];
       const float R = model.sections.radius_m[tip];
+      // Both end rings lie in one plane: the mesher sets the last ring by the last piece and the
+      // first by the first frame; both are the bisector of the two axes.
+      const Vec3 last_piece = glm::normalize(model.sections.positions[tip] - model.sections.positions[tip - 1]);
+      const Vec3 bisector = glm::normalize(t.direction[i] + t.direction[static_cast<size_t>(apex)]);
+      worst_plane = std::max(worst_plane, glm::length(last_piece - bisector));
+      worst_plane = std::max(worst_plane, glm::length(model.sections.frames[base].z - bisector));
+      turned += glm::dot(t.direction[i], t.direction[static_cast<size_t>(apex)]) < 0.9999f;
       worst = std::max(worst, std::abs(model.sections.radius_m[base] - R) / R);
       worst = std::max(worst, glm::length(model.sections.positions[base] - model.sections.positions[tip]) / R);
       // What a plain cone-per-segment drawing would show there: r_i against R_apex.
@@ -304,6 +311,8 @@ TEST(HartBaker, YearlySegmentsJoinWithoutAStep) {
     }
     ASSERT_GT(joins, 100);
     EXPECT_LT(worst, 1e-5f);
+    EXPECT_LT(worst_plane, 1e-3f);
+    EXPECT_GT(turned, joins / 2);  // the axes do turn at most joins
     EXPECT_GT(stepped_before, 0);  // the joins this test guards would otherwise step
   }
 }
@@ -337,6 +346,67 @@ TEST(HartBaker, ReactionWoodBulgesOnItsSide) {
     ASSERT_GT(laterals, 20);
     EXPECT_EQ(right_side, laterals);
   }
+}
+
+TEST(HartBaker, ReactionWoodReachIsEq25) {
+  // δ_i = W_i X̄_i sin θ_X / (F_R sin θ_d) (eq. 24–25) by hand on the hand-built tree: W = M g,
+  // X̄ sin θ_X the horizontal lever of the supported centre of mass from the limb's base, F_R =
+  // supports(R) g (eq. 6), θ_d the angle to the parent.
+  HartBakerParams p;
+  HartBakerTree t = hand_built(p);
+  t.radius_m[1] = 0.01f;
+  const LimbSums s = compute_limb_sums(t, p, {});
+  const std::vector<double> reach = reaction_wood_reach(t, p, s);
+  const double d = p.wood_density_kg_m3, k_d = kPi * p.max_height_m / 3.0 * d;
+  const double tau = p.tip_ratio;
+  // Limb 1 leaves the trunk's top along +X (θ_d = 90°) and carries limb 3 upright at x = 0.5.
+  const double m1 = d * frustum_volume(1.0, 0.01, 0.01 * tau), x1 = frustum_centroid(1.0, 0.01, 0.01 * tau);
+  const double m3 = d * frustum_volume(0.4, 0.01, 0.01 * tau);
+  EXPECT_NEAR(reach[1], (m1 * x1 + m3 * 0.5) / (k_d * 0.01 * 0.01), 1e-6 * reach[1]);
+  // Limb 2 leaves half-way up along −Y and carries nothing.
+  const double m2 = d * frustum_volume(0.5, 0.02, 0.02 * tau), x2 = frustum_centroid(0.5, 0.02, 0.02 * tau);
+  EXPECT_NEAR(reach[2], m2 * x2 / (k_d * 0.02 * 0.02), 1e-6 * reach[2]);
+  EXPECT_EQ(reach[3], 0.0);  // upright, its weight straight above its base: no lever
+  // The trunk: the whole tree's horizontal offset, θ_d = 90°.
+  EXPECT_NEAR(reach[0], s.M[0] * std::hypot(s.X[0].x, s.X[0].y) / (k_d * 0.1 * 0.1), 1e-6 * reach[0]);
+  // A limb leaning along its parent has sin θ_d → 0: nothing to resist, no reach.
+  t.direction[2] = Vec3(0, 0, 1);
+  EXPECT_EQ(reaction_wood_reach(t, p, compute_limb_sums(t, p, {}))[2], 0.0);
+}
+
+TEST(HartBaker, ReactionWoodBulgeFallsOffOverDelta) {
+  // Eq. 31's c(t l/δ): the drawn centre of a limb's sections leaves the axis by the ring offset
+  // times c(s/δ), full at the base, gone at δ, with sections over [0, δ] then the tip.
+  EXPECT_EQ(reaction_wood_falloff(0.0), 1.0);
+  EXPECT_EQ(reaction_wood_falloff(1.0), 0.0);
+  EXPECT_EQ(reaction_wood_falloff(2.0), 0.0);
+  EXPECT_NEAR(reaction_wood_falloff(0.5), 0.5, 1e-12);
+  for (double u = 0.0; u < 1.0; u += 0.05) EXPECT_GT(reaction_wood_falloff(u), reaction_wood_falloff(u + 0.05));
+  HartBakerParams p;
+  HartBakerTree t = hand_built(p);
+  t.radius_m[1] = 0.01f;
+  const Vec3 offset(0.0f, 0.0f, 0.004f);
+  t.reaction_m[1] = offset;
+  const double delta = reaction_wood_reach(t, p, compute_limb_sums(t, p, {}))[1];
+  ASSERT_GT(delta, t.radius_m[1]);
+  ASSERT_LT(delta, 0.5 * t.length_m[1]);
+  const TreeModel model = hart_baker_tree_model(t, p);
+  const size_t stem = stem_of(t, 1);
+  const uint32_t first = model.stems.first_section[stem];
+  ASSERT_EQ(model.stems.section_count[stem], static_cast<uint32_t>(kReactionSections + 2));
+  for (uint32_t k = 0; k < model.stems.section_count[stem]; ++k) {
+    const float arc = model.sections.arc_m[first + k];
+    const Vec3 axis = t.base[1] + t.direction[1] * arc;
+    const Vec3 shift = model.sections.positions[first + k] - axis;
+    EXPECT_NEAR(glm::length(shift - offset * static_cast<float>(reaction_wood_falloff(arc / delta))), 0.0f, 1e-6f)
+        << "section " << k << " at " << arc;
+    if (k > 0 && k <= static_cast<uint32_t>(kReactionSections)) {
+      EXPECT_NEAR(arc, delta * k / kReactionSections, 1e-6);
+    }
+  }
+  EXPECT_FLOAT_EQ(model.sections.arc_m[first + kReactionSections + 1], t.length_m[1]);
+  // Without reaction wood a limb is one cone: base and tip.
+  EXPECT_EQ(model.stems.section_count[stem_of(t, 2)], 2u);
 }
 
 TEST(HartBaker, MeshesThroughTheSharedMesher) {
