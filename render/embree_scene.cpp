@@ -238,18 +238,23 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
     unsigned curve_id = RTC_INVALID_GEOMETRY_ID;
     const CurveSet& cs = proto.curves;
     if (cs.size() > 0) {
-      if (cs.points.size() != 4 * cs.size() || cs.normals.size() != cs.points.size())
-        throw Error(fmt::format("prototype '{}': curves need 4 control points and 4 normals each", proto.name));
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE);
+      if (cs.points.size() != 4 * cs.size() || cs.normals.size() != (cs.round ? 0 : cs.points.size()))
+        throw Error(fmt::format("prototype '{}': curves need 4 control points each and, unless round, 4 normals",
+                                proto.name));
+      // Round curves (stems drawn as lines, geometry/trees/lod.h) are tubes; the others ribbons.
+      RTCGeometry g = rtcNewGeometry(
+          device, cs.round ? RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE : RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                                             4 * sizeof(float), cs.points.size()));
-      auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), cs.normals.size()));
       auto* idx = static_cast<unsigned*>(
           rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), cs.size()));
-      for (size_t i = 0; i < cs.points.size(); ++i) {
+      for (size_t i = 0; i < cs.points.size(); ++i)
         for (int k = 0; k < 4; ++k) v[4 * i + k] = cs.points[i][k];
-        for (int k = 0; k < 3; ++k) n[3 * i + k] = cs.normals[i][k];
+      if (!cs.round) {
+        auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), cs.normals.size()));
+        for (size_t i = 0; i < cs.normals.size(); ++i)
+          for (int k = 0; k < 3; ++k) n[3 * i + k] = cs.normals[i][k];
       }
       for (size_t i = 0; i < cs.size(); ++i) idx[i] = static_cast<unsigned>(4 * i);
       rtcSetGeometryIntersectFilterFunction(g, curve_near_filter);

@@ -31,7 +31,8 @@ struct Prototype {
   std::vector<HalfSpaceSolid> solids;
   std::vector<std::vector<uint32_t>> solid_palettes;
   // Thin two-sided ribbons (grass blades: Embree normal-oriented Bézier curves) in `curve_material`
-  // (a leaf material: reflectance and transmittance).
+  // (a leaf material: reflectance and transmittance), or round tubes (CurveSet::round: stems drawn
+  // as lines at range, geometry/trees/lod.h) in a bark material.
   CurveSet curves;
   uint32_t curve_material = 0;
   // Leaves as exact discs (RAMI abstract canopies, [[leaves]] files), two-sided with this leaf
