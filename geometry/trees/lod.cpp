@@ -58,9 +58,14 @@ int lod_mass_drawn(size_t mass, size_t total, float number, int mass_size) {
   const float clamped = std::clamp(number, 0.0f, static_cast<float>(mass_size));
   const float whole = std::floor(clamped);
   // The number of masses drawing one more, rounded to the nearest (5.3f is 5.3000002: the paper's
-  // 10 masses give 3, not 4).
-  const double change = std::round(static_cast<double>(masses) * static_cast<double>(clamped - whole));
-  const size_t drawn = static_cast<size_t>(whole) + (static_cast<double>(mass) < change ? 1 : 0);
+  // 10 masses give 3, not 4), spread evenly over the masses: mass m draws one more when
+  // ⌊(m + 1)·change/masses⌋ > ⌊m·change/masses⌋. The paper gives them to the first `change`
+  // masses; since elements are in the order they were made (the tree's bottom first), that
+  // thins the top of the tree: at 1200 m (0.5 of 4 leaves) its upper half would keep no leaf.
+  const size_t change =
+      static_cast<size_t>(std::llround(static_cast<double>(masses) * static_cast<double>(clamped - whole)));
+  const size_t extra = (mass + 1) * change / masses - mass * change / masses;
+  const size_t drawn = static_cast<size_t>(whole) + extra;
   const size_t in_mass = std::min(size, total - mass * size);
   // A last, partial mass draws its share of `number` (the paper's loop would draw up to `number`
   // of it, too many for an item of few elements: a trunk of 11 segments would keep 8 of 11, not half).
@@ -198,7 +203,7 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
   }
 
   // Leaves: masses of 4 in the model's order; the first `leaf_polygons` of a mass stay quads, the
-  // next, up to `leaf_points`, become discs. Per material slot, the kept leaves are enlarged about
+  // next, up to `leaf_points` (at least kLodMinLeafPoints), become discs. Per material slot, the kept leaves are enlarged about
   // the petiole by √(full area / kept area).
   const LeafQuads& quads = mesh.leaves;
   const size_t n = quads.size();
@@ -208,7 +213,7 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
   const auto slot_of = [&](size_t i) { return i < model.leaves.size() ? model.leaves.material_of(i) : uint8_t{0}; };
   for (size_t i = 0; i < n; ++i) {
     const bool quad = lod_is_drawn(i, n, numbers.leaf_polygons, kLodLeafMassSize);
-    const bool point = lod_is_drawn(i, n, numbers.leaf_points, kLodLeafMassSize);
+    const bool point = lod_is_drawn(i, n, std::max(numbers.leaf_points, kLodMinLeafPoints), kLodLeafMassSize);
     role[i] = quad ? kTube : point ? kLine : kSkip;
     const size_t slot = slot_of(i);
     if (slot >= slot_all.size()) {
@@ -239,7 +244,6 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
       const Vec3 normal = safe_normalize(glm::cross(c[1] - c[0], c[3] - c[0]), Vec3(0, 0, 1));
       const float area = leaf_quad_area(quads, i) * leaf_shape_coverage(quads.shapes[i]);
       out.discs.add(petiole + k * (centre - petiole), k * std::sqrt(area / kPi), normal);
-      out.disc_stem.push_back(quads.stem.empty() ? -1 : quads.stem[i]);
       out.disc_slot.push_back(static_cast<uint8_t>(slot_of(i)));
       ++out.counts.leaf_discs;
     }

@@ -28,6 +28,13 @@ inline constexpr int kLodLeafMassSize = 4;
 // Stem items: levels 0, 1 and 2 (§5: "any stems beyond the third level are grouped with the third").
 inline constexpr int kLodStemItems = 3;
 
+// The fewest leaves per mass a built level keeps (as points): one in four. Table 2 goes down to
+// half a leaf per mass (one in eight), but the ×2.83 enlargement that then preserves the leaf
+// area makes the leaves overlap measurably more, so a distant canopy lets more light through
+// (+1.4 % green radiance over a test forest, mean-bias z = 5.6); one in four (×2) does not
+// (docs/lod.md). lod_numbers keeps the paper's schedule.
+inline constexpr float kLodMinLeafPoints = 1.0f;
+
 // number_{primitive,item} of §5: elements per mass drawn with each primitive, in [0, mass_size].
 struct LodNumbers {
   std::array<float, kLodStemItems> polygons{};  // stem segments drawn as tubes, of 16
@@ -42,8 +49,10 @@ struct LodNumbers {
 LodNumbers lod_numbers(float r2);
 
 // The paper's drawing loop (§5): of `total` elements in masses of `mass_size`, mass m draws its
-// first floor(number) elements, plus one more when m < round(masses·frac(number)); a last, partial
-// mass of s < mass_size elements draws round(number·s/mass_size) of them. How many elements of
+// first floor(number) elements, plus one more in change = round(masses·frac(number)) of the
+// masses — spread evenly (mass m when ⌊(m + 1)·change/masses⌋ > ⌊m·change/masses⌋), where the
+// paper takes the first `change`; a last, partial mass of s < mass_size elements draws
+// round(number·s/mass_size) of them. How many elements of
 // mass `mass` are drawn, and whether element `index` is.
 int lod_mass_drawn(size_t mass, size_t total, float number, int mass_size);
 bool lod_is_drawn(size_t index, size_t total, float number, int mass_size);
@@ -55,10 +64,13 @@ size_t lod_drawn_count(size_t total, float number, int mass_size);
 // footprint = d·2·tan(vfov/2)/height.
 float lod_calibrated_range(float pixel_footprint_m);
 
-// The precomputed levels: level k is built at r2 = kLodLevelR2[k] (Table 2's ranges from 60 m) and
+// The precomputed levels: level k is built at r2 = kLodLevelR2[k] (Table 2's ranges from 240 m) and
 // drawn for instances with kLodLevelR2[k] ≤ r2 < kLodLevelR2[k + 1]; level 0 is the full tree.
-inline constexpr std::array<float, 6> kLodLevelR2 = {0.0f, 60.0f, 120.0f, 240.0f, 600.0f, 1200.0f};
-// The level for an instance at calibrated range r2 (non-decreasing in r2; 0 for r2 < 60 or NaN).
+// Table 2's 60 and 120 m columns keep 93 % and 53 % of the leaves as polygons: as prototypes of
+// their own they would cost nearly a full tree's memory each for little saving, so trees closer
+// than r2 = 240 are drawn in full (docs/lod.md).
+inline constexpr std::array<float, 4> kLodLevelR2 = {0.0f, 240.0f, 600.0f, 1200.0f};
+// The level for an instance at calibrated range r2 (non-decreasing in r2; 0 for r2 < 240 or NaN).
 int lod_level_for(float r2);
 
 // Drawn elements of one level, per stem item (segments) and for the leaves.
@@ -81,15 +93,15 @@ struct TreeLod {
   std::vector<uint8_t> quad_slot;
   CurveSet lines, dead_lines;  // CurveSet::round
   LeafDiscs discs;
-  std::vector<int32_t> disc_stem;
   std::vector<uint8_t> disc_slot;
   float leaf_scale = 1;            // linear enlargement of the kept leaves (slot 0)
   std::array<float, kLodStemItems> line_radius_scale{1, 1, 1};  // widening of the kept lines
   LodCounts counts;
 };
 
-// The level at r2 of a tree: `mesh` is make_tree_mesh(model, options) (its leaves are taken from
-// it), options as given there (radial resolution, dead stems split). Per leaf material slot the
+// The level at r2 of a tree: `mesh` holds the tree's leaf quads, one per model leaf in order (its
+// tubes are not read: they are meshed again from `model` with `options`: radial resolution, dead
+// stems split). Per leaf material slot the
 // one-sided leaf area (quad area × outline coverage) of the level equals the full tree's; per stem
 // item the projected bark area Σ ½(r_i + r_{i+1})·|segment| of the drawn segments equals the full
 // item's whenever any of its segments is drawn.

@@ -103,7 +103,8 @@ TEST(Lod, LevelsDrawTheCountedElements) {
     EXPECT_TRUE(level.lines.round);
     EXPECT_TRUE(level.lines.normals.empty());
     const size_t quads = lod_drawn_count(level.counts.leaves, n.leaf_polygons, kLodLeafMassSize);
-    const size_t any = lod_drawn_count(level.counts.leaves, std::max(n.leaf_polygons, n.leaf_points), kLodLeafMassSize);
+    const float points = std::max(n.leaf_points, kLodMinLeafPoints);
+    const size_t any = lod_drawn_count(level.counts.leaves, std::max(n.leaf_polygons, points), kLodLeafMassSize);
     EXPECT_EQ(level.mesh.leaves.size(), quads);
     EXPECT_EQ(level.discs.size(), any - quads);
   }

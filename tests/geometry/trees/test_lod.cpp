@@ -11,16 +11,29 @@
 namespace sylva {
 namespace {
 
-// §5's example: 160 cross-sections (10 masses of 16) with number 5.3 draw 6 in the first 3 masses
-// and 5 in the last 7.
+// §5's example: 160 cross-sections (10 masses of 16) with number 5.3 draw 6 in 3 masses and 5 in
+// the other 7 (the paper: the first 3; here spread evenly, masses 3, 6 and 9).
 TEST(LodLoop, PaperExample) {
-  for (size_t m = 0; m < 10; ++m) EXPECT_EQ(lod_mass_drawn(m, 160, 5.3f, 16), m < 3 ? 6 : 5) << m;
+  for (size_t m = 0; m < 10; ++m) EXPECT_EQ(lod_mass_drawn(m, 160, 5.3f, 16), m == 3 || m == 6 || m == 9 ? 6 : 5) << m;
   EXPECT_EQ(lod_drawn_count(160, 5.3f, 16), 53u);
   EXPECT_TRUE(lod_is_drawn(0, 160, 5.3f, 16));
-  EXPECT_TRUE(lod_is_drawn(5, 160, 5.3f, 16));
-  EXPECT_FALSE(lod_is_drawn(6, 160, 5.3f, 16));
-  EXPECT_TRUE(lod_is_drawn(16 * 3 + 4, 160, 5.3f, 16));
-  EXPECT_FALSE(lod_is_drawn(16 * 3 + 5, 160, 5.3f, 16));
+  EXPECT_TRUE(lod_is_drawn(4, 160, 5.3f, 16));
+  EXPECT_FALSE(lod_is_drawn(5, 160, 5.3f, 16));
+  EXPECT_TRUE(lod_is_drawn(16 * 3 + 5, 160, 5.3f, 16));
+  EXPECT_FALSE(lod_is_drawn(16 * 3 + 6, 160, 5.3f, 16));
+}
+
+// Half an element per mass (Table 2's leaf points at 1200 m) keeps one in every second mass, so
+// both halves of a tree keep the same share.
+TEST(LodLoop, FractionsSpreadEvenly) {
+  const size_t total = 4 * 1000;
+  size_t first_half = 0, second_half = 0;
+  for (size_t i = 0; i < total; ++i)
+    if (lod_is_drawn(i, total, 0.5f, 4)) ++(i < total / 2 ? first_half : second_half);
+  EXPECT_EQ(first_half, 250u);
+  EXPECT_EQ(second_half, 250u);
+  for (size_t m = 0; m + 1 < 1000; m += 2)
+    EXPECT_EQ(lod_mass_drawn(m, total, 0.5f, 4) + lod_mass_drawn(m + 1, total, 0.5f, 4), 1) << m;
 }
 
 TEST(LodLoop, CountsWithinOnePerMassAndMonotone) {
@@ -92,7 +105,7 @@ TEST(LodLevel, ChoiceIsMonotoneAndCoversTheLevels) {
   }
   EXPECT_EQ(previous, static_cast<int>(kLodLevelR2.size()) - 1);
   for (size_t k = 0; k < kLodLevelR2.size(); ++k) EXPECT_EQ(lod_level_for(kLodLevelR2[k]), static_cast<int>(k));
-  EXPECT_EQ(lod_level_for(59.9f), 0);
+  EXPECT_EQ(lod_level_for(239.9f), 0);
   EXPECT_EQ(lod_level_for(std::numeric_limits<float>::quiet_NaN()), 0);
 }
 
