@@ -2,8 +2,12 @@
 // drawn-element counts, leaf and bark area per level, and the levels' geometry against the counts.
 
 #include "geometry/trees/lod.h"
+#include "core/error.h"
+#include "scenes/scene_file.h"
 #include "scenes/species.h"
+#include "scenes/tree_lod.h"
 
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 
 #include <array>
@@ -156,6 +160,95 @@ TEST(Lod, LeafAreaAndBarkAreaPreservedPerLevel) {
   TreeModel trunk = a.model;
   for (size_t s = 1; s < trunk.stems.size(); ++s) trunk.stems.section_count[s] = 0;
   EXPECT_NEAR(bark_area(a.model, &far) / bark_area(trunk, nullptr), 1.0, 1e-4);
+}
+
+// A row of aspens from 10 m to 2 km along the camera's view, placed by [[placements]].
+std::string row_scene(const std::string& lod) {
+  std::string text = R"([render]
+width = 320
+height = 200
+[camera]
+position = [0, 0, 1.7]
+target = [0, 100, 1.7]
+vfov = 40
+[materials.bark]
+reflectance = 0.3
+[materials.leaf]
+type = "leaf"
+reflectance = 0.4
+transmittance = 0.4
+[[placements]]
+species.aspen = { species = "species/quaking_aspen.toml", bark = "bark", leaf = "leaf", quality = 0.2 }
+rows = [
+)";
+  for (int i = 0; i < 40; ++i)
+    text += "  { x = 0, y = " + std::to_string(10 + i * 50) + ", species = \"aspen\", seed = " +
+            std::to_string(1 + i % 2) + " },\n";
+  return text + "]\n" + lod;
+}
+
+// The level of each placed tree, read from its prototypes' names ("(lod r2 600)"; none = level 0).
+std::vector<int> instance_levels(const SceneFile& file) {
+  std::vector<int> levels;
+  uint32_t object = 0;
+  for (const Instance& inst : file.scene.instances) {
+    if (inst.object_id == object) continue;
+    object = inst.object_id;
+    const std::string& name = file.scene.prototypes[inst.prototype].name;
+    int level = 0;
+    for (size_t k = 1; k < kLodLevelR2.size(); ++k)
+      if (name.find(fmt::format("(lod r2 {:g})", kLodLevelR2[k])) != std::string::npos) level = static_cast<int>(k);
+    levels.push_back(level);
+  }
+  return levels;
+}
+
+TEST(LodScene, LevelPerInstanceIsDeterministicAndMonotoneInDistance) {
+  const SceneFile off = parse_scene(row_scene(""), "row.toml", kSpecies.parent_path());
+  const SceneFile on = parse_scene(row_scene("[lod]\n"), "row.toml", kSpecies.parent_path());
+  const SceneFile again = parse_scene(row_scene("[lod]\nenabled = true\n"), "row.toml", kSpecies.parent_path());
+  const std::vector<int> l_off = instance_levels(off), l_on = instance_levels(on);
+  ASSERT_EQ(l_on.size(), 40u);
+  for (const int l : l_off) EXPECT_EQ(l, 0);
+  EXPECT_EQ(off.scene.prototypes.size(), 2u);  // two variants, no levels without [lod]
+  for (size_t i = 1; i < l_on.size(); ++i) EXPECT_GE(l_on[i], l_on[i - 1]) << i;
+  EXPECT_EQ(l_on.front(), 0);
+  EXPECT_EQ(l_on.back(), static_cast<int>(kLodLevelR2.size()) - 1);
+  // The expected level from the calibrated range: nearest point of the tree's bounds.
+  ASSERT_EQ(again.scene.instances.size(), on.scene.instances.size());
+  for (size_t i = 0; i < on.scene.instances.size(); ++i)
+    EXPECT_EQ(again.scene.instances[i].prototype, on.scene.instances[i].prototype);
+  // Trees closer than the first threshold keep full detail; a larger bias keeps detail further.
+  const std::vector<int> l_bias = instance_levels(parse_scene(row_scene("[lod]\nbias = 4.0\n"), "row.toml",
+                                                              kSpecies.parent_path()));
+  int sum_on = 0, sum_bias = 0;
+  for (size_t i = 0; i < l_on.size(); ++i) {
+    EXPECT_LE(l_bias[i], l_on[i]);
+    sum_on += l_on[i];
+    sum_bias += l_bias[i];
+  }
+  EXPECT_LT(sum_bias, sum_on);
+  // A bad bias is a file:line error.
+  EXPECT_THROW(parse_scene(row_scene("[lod]\nbias = 0\n"), "row.toml", kSpecies.parent_path()), ParseError);
+  EXPECT_THROW(parse_scene(row_scene("[lod]\nrange = 3\n"), "row.toml", kSpecies.parent_path()), ParseError);
+}
+
+// The calibrated range is the paper's for its reference camera, and grows with the distance.
+TEST(LodScene, CalibratedRangeOfAnInstance) {
+  CameraDesc camera;
+  camera.position = Vec3(0.0f);
+  PerspectiveProjection p;
+  p.vfov_deg = 60.0f;
+  camera.projection = p;
+  Bounds3 box;
+  box.extend(Vec3(-1, 99, 0));
+  box.extend(Vec3(1, 101, 10));
+  EXPECT_NEAR(instance_calibrated_range(camera, 1000, 1000, box), 99.0f, 1e-2f);
+  EXPECT_NEAR(instance_calibrated_range(camera, 1000, 500, box), 198.0f, 2e-2f);
+  Bounds3 around;
+  around.extend(Vec3(-1.0f));
+  around.extend(Vec3(1.0f));
+  EXPECT_EQ(instance_calibrated_range(camera, 1000, 1000, around), 0.0f);  // the camera inside
 }
 
 }  // namespace
