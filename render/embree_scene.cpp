@@ -239,8 +239,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
     const CurveSet& cs = proto.curves;
     if (cs.size() > 0) {
       if (cs.points.size() != 4 * cs.size() || cs.normals.size() != (cs.round ? 0 : cs.points.size()))
-        throw Error(fmt::format("prototype '{}': curves need 4 control points each and, unless round, 4 normals",
-                                proto.name));
+        throw Error(
+            fmt::format("prototype '{}': curves need 4 control points each and, unless round, 4 normals", proto.name));
       // Round curves (stems drawn as lines, geometry/trees/lod.h) are tubes; the others ribbons.
       RTCGeometry g = rtcNewGeometry(
           device, cs.round ? RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE : RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE);

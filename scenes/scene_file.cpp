@@ -937,8 +937,9 @@ class SceneParser {
   std::vector<uint32_t> add_lod_prototypes(const Params& t, const std::string& name, TreeLod& level,
                                            const std::vector<uint32_t>& materials) {
     const bool dead = !level.mesh.dead_stems.triangles.empty() || level.dead_lines.size() > 0;
-    const uint32_t dead_material =
-        !dead ? materials[0] : t.has("dead_bark") ? material_ref(t, "dead_bark") : darker_bark(materials[0]);
+    const uint32_t dead_material = !dead                ? materials[0]
+                                   : t.has("dead_bark") ? material_ref(t, "dead_bark")
+                                                        : darker_bark(materials[0]);
     std::vector<uint32_t> ids;
     for (Prototype& p : lod_prototypes(name, level, materials, dead_material))
       ids.push_back(out_.scene.add_prototype(std::move(p)));
@@ -1282,7 +1283,7 @@ class SceneParser {
       v.tree = generate_tree(*species[v.entry], v.seed, options[v.entry], true);
     });
     std::vector<std::vector<std::vector<uint32_t>>> protos(rules.size());
-    std::vector<std::vector<size_t>> variant_index(rules.size());  // (entry, k-th variant) → variants
+    std::vector<std::vector<size_t>> variant_index(rules.size());                // (entry, k-th variant) → variants
     std::vector<GeneratedTree> lod_sources(lod_.enabled ? variants.size() : 0);  // kept for the levels
     std::vector<std::vector<uint32_t>> variant_ids(rules.size());
     std::vector<uint32_t> class_ids;

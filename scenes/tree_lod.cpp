@@ -1,5 +1,8 @@
 #include "scenes/tree_lod.h"
 
+#include "render/embree_scene.h"
+#include "render/materials/diffuse.h"
+
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -80,6 +83,38 @@ std::vector<Prototype> lod_prototypes(const std::string& name, TreeLod& level, c
   dead.curve_material = dead_material;
   if (has_geometry(dead)) out.push_back(std::move(dead));
   level = TreeLod{};
+  return out;
+}
+
+std::vector<LodLevelReport> report_lod_levels(const TreeModel& model, const TreeMesh& mesh,
+                                              const TreeMeshOptions& options) {
+  std::vector<LodLevelReport> out;
+  for (const float r2 : kLodLevelR2) {
+    TreeLod level = make_tree_lod(model, mesh, options, r2);
+    LodLevelReport r;
+    r.r2 = r2;
+    r.counts = level.counts;
+    r.leaf_area_m2 = leaf_outline_area(level.mesh.leaves) + level.discs.area();
+    Scene scene;
+    scene.add_material("grey", make_diffuse("grey", DenseSpectrum::constant(0.5f)));
+    for (Prototype& p : lod_prototypes("tree", level, {0, 0}, 0)) {
+      r.triangles += p.triangles.triangles.size();
+      r.leaf_quads += p.leaves.size();
+      r.curves += p.curves.size();
+      r.discs += p.discs.size();
+      r.geometry_bytes += p.triangles.positions.size() * sizeof(Vec3) + p.triangles.normals.size() * sizeof(Vec3) +
+                          p.triangles.uvs.size() * sizeof(Vec2) + p.triangles.triangles.size() * sizeof(glm::uvec3) +
+                          p.leaves.corners.size() * sizeof(Vec3) + p.leaves.shapes.size() * sizeof(LeafShape) +
+                          p.leaves.stem.size() * sizeof(int32_t) + p.curves.points.size() * sizeof(Vec4) +
+                          p.discs.size() * (2 * sizeof(Vec3) + sizeof(float));
+      const uint32_t id = scene.add_prototype(std::move(p));
+      scene.instances.push_back(Instance{id, Mat4(1.0f), 0, kClassMesh, 0});
+    }
+    const EmbreeScene embree(scene);
+    r.bvh_bytes = embree.stats().bvh_bytes;
+    r.build_ms = embree.stats().build_ms;
+    out.push_back(r);
+  }
   return out;
 }
 

@@ -38,4 +38,21 @@ int instance_lod_level(const LodSettings& settings, const CameraDesc& camera, in
 std::vector<Prototype> lod_prototypes(const std::string& name, TreeLod& level, const std::vector<uint32_t>& materials,
                                       uint32_t dead_material);
 
+// What one level costs (`sylva tree --lod`): its drawn elements, leaf area, the bytes of its
+// geometry as the Scene holds it, and the size of its BVH as Embree reports it (one prototype
+// built alone, render/embree_scene.h).
+struct LodLevelReport {
+  float r2 = 0;
+  LodCounts counts;
+  size_t triangles = 0, leaf_quads = 0, curves = 0, discs = 0;
+  double leaf_area_m2 = 0;  // one-sided, outlines included
+  size_t geometry_bytes = 0;
+  size_t bvh_bytes = 0;
+  double build_ms = 0;
+};
+// Every level of kLodLevelR2 (level 0 as make_tree_lod at r2 = 0, the full tree) of a tree meshed
+// as `mesh` with `options`, one after the other.
+std::vector<LodLevelReport> report_lod_levels(const TreeModel& model, const TreeMesh& mesh,
+                                              const TreeMeshOptions& options);
+
 }  // namespace sylva

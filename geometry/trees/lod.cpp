@@ -70,8 +70,8 @@ int lod_mass_drawn(size_t mass, size_t total, float number, int mass_size) {
   // A last, partial mass draws its share of `number` (the paper's loop would draw up to `number`
   // of it, too many for an item of few elements: a trunk of 11 segments would keep 8 of 11, not half).
   if (in_mass < size)
-    return static_cast<int>(std::lround(static_cast<double>(clamped) * static_cast<double>(in_mass) /
-                                        static_cast<double>(size)));
+    return static_cast<int>(
+        std::lround(static_cast<double>(clamped) * static_cast<double>(in_mass) / static_cast<double>(size)));
   return static_cast<int>(drawn);
 }
 
@@ -203,8 +203,8 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
   }
 
   // Leaves: masses of 4 in the model's order; the first `leaf_polygons` of a mass stay quads, the
-  // next, up to `leaf_points` (at least kLodMinLeafPoints), become discs. Per material slot, the kept leaves are enlarged about
-  // the petiole by √(full area / kept area).
+  // next, up to `leaf_points` (at least kLodMinLeafPoints), become discs. Per material slot, the kept leaves are
+  // enlarged about the petiole by √(full area / kept area).
   const LeafQuads& quads = mesh.leaves;
   const size_t n = quads.size();
   out.counts.leaves = n;

@@ -94,7 +94,7 @@ struct TreeLod {
   CurveSet lines, dead_lines;  // CurveSet::round
   LeafDiscs discs;
   std::vector<uint8_t> disc_slot;
-  float leaf_scale = 1;            // linear enlargement of the kept leaves (slot 0)
+  float leaf_scale = 1;                                         // linear enlargement of the kept leaves (slot 0)
   std::array<float, kLodStemItems> line_radius_scale{1, 1, 1};  // widening of the kept lines
   LodCounts counts;
 };

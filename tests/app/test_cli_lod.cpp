@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace sylva {
 namespace {
@@ -87,13 +89,11 @@ TEST(CliLod, DistantRowsMatchTheFullForest) {
   const fs::path dir = fresh_dir("cli_lod");
   std::ofstream(dir / "lod.toml") << stand_scene(true);
   std::ofstream(dir / "full.toml") << stand_scene(false);
-  const auto lod = run_sylva("render '" + (dir / "lod.toml").string() + "' -o '" + (dir / "lod.exr").string() +
-                                 "' --seed 7 --threads 2",
-                             dir);
+  const auto lod = run_sylva(
+      "render '" + (dir / "lod.toml").string() + "' -o '" + (dir / "lod.exr").string() + "' --seed 7 --threads 2", dir);
   ASSERT_EQ(lod.exit_code, 0) << lod.err;
-  const auto full = run_sylva("render '" + (dir / "full.toml").string() + "' -o '" + (dir / "full.exr").string() +
-                                  "' --threads 2",
-                              dir);
+  const auto full = run_sylva(
+      "render '" + (dir / "full.toml").string() + "' -o '" + (dir / "full.exr").string() + "' --threads 2", dir);
   ASSERT_EQ(full.exit_code, 0) << full.err;
   // The LOD render draws stems as curves; the full one has none.
   EXPECT_NE(full.err.find(" + 0 curves"), std::string::npos) << full.err;
@@ -105,6 +105,32 @@ TEST(CliLod, DistantRowsMatchTheFullForest) {
   options.channels = {"R", "G", "B"};
   const CompareResult result = compare_images(a, b, options);
   EXPECT_TRUE(result.passed) << format_compare_summary(result);
+}
+
+// `sylva tree --lod`: one row per level, each cheaper in BVH memory than the one before, the leaf
+// area the same in every row.
+TEST(CliLod, TreeReportsEveryLevel) {
+  const fs::path dir = fresh_dir("cli_lod_tree");
+  const auto r = run_sylva("tree '" SYLVA_SOURCE_DIR "/data/species/quaking_aspen.toml' --quality 0.3 --lod", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  std::vector<double> bvh, area;
+  while (std::getline(lines, line)) {
+    if (line.rfind("| ", 0) != 0 || line.find("| level") == 0) continue;
+    std::vector<std::string> cells;
+    std::istringstream row(line);
+    std::string cell;
+    while (std::getline(row, cell, '|')) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 13u) << line;  // leading empty cell + 12 columns
+    area.push_back(std::stod(cells[9]));
+    bvh.push_back(std::stod(cells[11]));
+  }
+  ASSERT_EQ(bvh.size(), 4u) << r.out;
+  for (size_t k = 1; k < bvh.size(); ++k) {
+    EXPECT_LT(bvh[k], bvh[k - 1]) << r.out;
+    EXPECT_NEAR(area[k], area[0], 0.01 * area[0]) << r.out;
+  }
 }
 
 }  // namespace

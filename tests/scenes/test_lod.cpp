@@ -1,8 +1,8 @@
 // Weber & Penn §5 level of detail (geometry/trees/lod.h) on the shipped Quaking Aspen: Table 2 as
 // drawn-element counts, leaf and bark area per level, and the levels' geometry against the counts.
 
-#include "geometry/trees/lod.h"
 #include "core/error.h"
+#include "geometry/trees/lod.h"
 #include "scenes/scene_file.h"
 #include "scenes/species.h"
 #include "scenes/tree_lod.h"
@@ -82,8 +82,8 @@ TEST(Lod, Table2ReproducedOnTheQuakingAspen) {
       const double ours = static_cast<double>(drawn) / static_cast<double>(totals[item]);
       const double paper = row.cells[c] / table_full;
       const double tolerance = 0.5 / kLodStemMassSize + 1.0 / static_cast<double>(totals[item]);
-      EXPECT_NEAR(ours, paper, tolerance) << "item " << row.item << (row.polygons ? " polygons" : " lines/points")
-                                          << " at " << kRanges[c] << " m";
+      EXPECT_NEAR(ours, paper, tolerance)
+          << "item " << row.item << (row.polygons ? " polygons" : " lines/points") << " at " << kRanges[c] << " m";
     }
   }
 }
@@ -101,8 +101,8 @@ TEST(Lod, LevelsDrawTheCountedElements) {
       EXPECT_EQ(level.counts.tube_segments[item], tubes) << "r2 " << r2 << " item " << item;
       EXPECT_EQ(level.counts.tube_segments[item] + level.counts.line_segments[item], either) << "r2 " << r2;
     }
-    size_t line_segments = level.counts.line_segments[0] + level.counts.line_segments[1] +
-                           level.counts.line_segments[2];
+    size_t line_segments =
+        level.counts.line_segments[0] + level.counts.line_segments[1] + level.counts.line_segments[2];
     EXPECT_EQ(level.lines.size() + level.dead_lines.size(), line_segments);
     EXPECT_TRUE(level.lines.round);
     EXPECT_TRUE(level.lines.normals.empty());
@@ -182,8 +182,8 @@ species.aspen = { species = "species/quaking_aspen.toml", bark = "bark", leaf = 
 rows = [
 )";
   for (int i = 0; i < 40; ++i)
-    text += "  { x = 0, y = " + std::to_string(10 + i * 50) + ", species = \"aspen\", seed = " +
-            std::to_string(1 + i % 2) + " },\n";
+    text += "  { x = 0, y = " + std::to_string(10 + i * 50) +
+            ", species = \"aspen\", seed = " + std::to_string(1 + i % 2) + " },\n";
   return text + "]\n" + lod;
 }
 
@@ -219,8 +219,8 @@ TEST(LodScene, LevelPerInstanceIsDeterministicAndMonotoneInDistance) {
   for (size_t i = 0; i < on.scene.instances.size(); ++i)
     EXPECT_EQ(again.scene.instances[i].prototype, on.scene.instances[i].prototype);
   // Trees closer than the first threshold keep full detail; a larger bias keeps detail further.
-  const std::vector<int> l_bias = instance_levels(parse_scene(row_scene("[lod]\nbias = 4.0\n"), "row.toml",
-                                                              kSpecies.parent_path()));
+  const std::vector<int> l_bias =
+      instance_levels(parse_scene(row_scene("[lod]\nbias = 4.0\n"), "row.toml", kSpecies.parent_path()));
   int sum_on = 0, sum_bias = 0;
   for (size_t i = 0; i < l_on.size(); ++i) {
     EXPECT_LE(l_bias[i], l_on[i]);
