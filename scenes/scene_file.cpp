@@ -1300,10 +1300,13 @@ class SceneParser {
       const std::string name = fmt::format("{} seed {}", e.string("name", species[v.entry]->name), v.seed);
       const size_t index = static_cast<size_t>(&v - variants.data());
       if (lod_.enabled) {
+        // Its prototypes (full and reduced) are added after placement, for the levels in use.
         v.bounds = bounds_of(v.tree.mesh);
-        lod_sources[index] = lod_source(v.tree);
+        lod_sources[index] = std::move(v.tree);
+        protos[v.entry].emplace_back();
+      } else {
+        protos[v.entry].push_back(add_tree_prototypes(e, name, v.tree, materials[v.entry]));
       }
-      protos[v.entry].push_back(add_tree_prototypes(e, name, v.tree, materials[v.entry]));
       variant_index[v.entry].push_back(index);
       v.tree = GeneratedTree{};
       variant_ids[v.entry].push_back(
@@ -1368,8 +1371,8 @@ class SceneParser {
       m = glm::rotate(m, tree.heading_rad, Vec3(0, 0, 1));
       return glm::scale(m, Vec3(tree.scale));
     };
-    // With [lod], each tree's level (docs/lod.md); a level's prototypes are added once, when first
-    // used, in variant then level order.
+    // With [lod], each tree's level (docs/lod.md); a level's prototypes, the full tree's included,
+    // are added only if some tree uses it, in variant then level order.
     const size_t levels = kLodLevelR2.size();
     std::vector<uint8_t> tree_level(lod_.enabled ? trees.size() : 0, 0);
     std::vector<uint8_t> used(variants.size() * levels, 0);
@@ -1379,20 +1382,25 @@ class SceneParser {
       used[v * levels + tree_level[i]] = 1;
     }
     std::vector<std::vector<uint32_t>> level_protos(variants.size() * levels);
-    for (LodJob& job : build_lod_levels(used, lod_sources)) {
-      const Variant& v = variants[job.variant];
-      const Params& e = *entries[v.entry];
-      const std::string name = fmt::format("{} seed {}", e.string("name", species[v.entry]->name), v.seed);
-      level_protos[job.variant * levels + job.level] = add_lod_prototypes(e, name, job.lod, materials[v.entry]);
+    std::vector<LodJob> jobs = build_lod_levels(used, lod_sources);
+    size_t job = 0;
+    for (size_t v = 0; v < lod_sources.size(); ++v) {
+      const Params& e = *entries[variants[v].entry];
+      const std::string name =
+          fmt::format("{} seed {}", e.string("name", species[variants[v].entry]->name), variants[v].seed);
+      const std::vector<uint32_t>& mats = materials[variants[v].entry];
+      if (used[v * levels]) level_protos[v * levels] = add_tree_prototypes(e, name, lod_sources[v], mats);
+      for (; job < jobs.size() && jobs[job].variant == v; ++job)
+        level_protos[v * levels + jobs[job].level] = add_lod_prototypes(e, name, jobs[job].lod, mats);
+      lod_sources[v] = GeneratedTree{};
     }
-    lod_sources.clear();
     out_.scene.instances.reserve(out_.scene.instances.size() + trees.size());
     for (size_t i = 0; i < trees.size(); ++i) {
       const PlacedTree& tree = trees[i];
       const Mat4 m = placed(tree);
       const int level = tree_level.empty() ? 0 : tree_level[i];
       const size_t v = variant_index[tree.species][tree.variant];
-      for (const uint32_t proto : level == 0 ? protos[tree.species][tree.variant] : level_protos[v * levels + level])
+      for (const uint32_t proto : lod_.enabled ? level_protos[v * levels + level] : protos[tree.species][tree.variant])
         out_.scene.instances.push_back(Instance{proto, m, static_cast<uint32_t>(first_id + static_cast<int64_t>(i)),
                                                 class_ids[tree.species], variant_ids[tree.species][tree.variant]});
     }

@@ -233,6 +233,62 @@ TEST(LodScene, LevelPerInstanceIsDeterministicAndMonotoneInDistance) {
   EXPECT_THROW(parse_scene(row_scene("[lod]\nrange = 3\n"), "row.toml", kSpecies.parent_path()), ParseError);
 }
 
+// [vegetation] with [lod]: the same trees (object ids, transforms) as without, some at reduced
+// levels, and only the levels in use are built.
+TEST(LodScene, VegetationTreesTakeLevels) {
+  const auto scene = [](const std::string& lod) {
+    return R"([render]
+width = 160
+height = 90
+[camera]
+position = [0, -110, 3]
+target = [0, 0, 0]
+vfov = 40
+[materials.soil]
+reflectance = 0.2
+[materials.bark]
+reflectance = 0.3
+[materials.leaf]
+type = "leaf"
+reflectance = 0.4
+transmittance = 0.4
+[terrain]
+size = [200, 200]
+resolution = 4
+relief = 1
+material = "soil"
+[vegetation]
+tree_cover = 1.0
+grass_cover = 0.0
+[[vegetation.species]]
+bit = 0
+species = "species/quaking_aspen.toml"
+bark = "bark"
+leaf = "leaf"
+quality = 0.1
+density = 10
+min_spacing = 5
+variants = 2
+)" + lod;
+  };
+  const SceneFile off = parse_scene(scene(""), "veg.toml", kSpecies.parent_path());
+  const SceneFile on = parse_scene(scene("[lod]\n"), "veg.toml", kSpecies.parent_path());
+  ASSERT_EQ(on.scene.instances.size(), off.scene.instances.size());
+  size_t reduced = 0;
+  for (size_t i = 0; i < on.scene.instances.size(); ++i) {
+    const Instance &a = on.scene.instances[i], &b = off.scene.instances[i];
+    EXPECT_EQ(a.object_id, b.object_id);
+    EXPECT_EQ(a.world_from_object, b.world_from_object);
+    if (on.scene.prototypes[a.prototype].name.find("(lod r2") != std::string::npos) ++reduced;
+  }
+  EXPECT_GT(reduced, 0u);
+  EXPECT_LT(reduced, on.scene.instances.size());
+  // Every prototype is drawn by some instance.
+  std::vector<int> drawn(on.scene.prototypes.size(), 0);
+  for (const Instance& inst : on.scene.instances) drawn[inst.prototype] = 1;
+  for (size_t p = 0; p < drawn.size(); ++p) EXPECT_TRUE(drawn[p]) << on.scene.prototypes[p].name;
+}
+
 // The calibrated range is the paper's for its reference camera, and grows with the distance.
 TEST(LodScene, CalibratedRangeOfAnInstance) {
   CameraDesc camera;
