@@ -16,7 +16,7 @@ OUT=$(mkdir -p "$2" && realpath "$2")
 SPP=${3:-16}
 REPO=$(cd "$(dirname "$0")/.." && pwd)
 SCENE="$REPO/bench/scenes/lod_forest.toml"
-WORK=$(mktemp -d "$REPO/bench/scenes/.lod_bench.XXXXXX")
+WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 cp "$SCENE" "$WORK/lod.toml"
 sed 's/^enabled = true/enabled = false/' "$SCENE" > "$WORK/full.toml"
