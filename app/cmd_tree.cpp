@@ -8,6 +8,7 @@
 #include "geometry/trees/tree_mesher.h"
 #include "geometry/trees/tree_stats.h"
 #include "scenes/species.h"
+#include "scenes/tree_lod.h"
 
 #include <fmt/core.h>
 
@@ -26,6 +27,7 @@ struct TreeArgs {
   float quality = 1.0f;
   std::string obj, ply;
   bool stats = false;
+  bool lod = false;
 };
 
 // "SPEED,GUST" (or "SPEED") → {speed, gust}.
@@ -70,6 +72,22 @@ int run_solid_tree(const TreeArgs& a, const Species& species, const TreeModel& m
   return 0;
 }
 
+// The levels of detail (docs/lod.md) as a Markdown table.
+void print_lod_levels(const std::vector<LodLevelReport>& levels) {
+  fmt::print(
+      "| level | r2 | tube segments (0/1/2) | line segments (0/1/2) | triangles | leaf quads | leaf discs | curves | "
+      "leaf area m² | geometry KiB | BVH KiB | build ms "
+      "|\n|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (size_t k = 0; k < levels.size(); ++k) {
+    const LodLevelReport& r = levels[k];
+    const LodCounts& c = r.counts;
+    fmt::print("| {} | {:g} | {}/{}/{} | {}/{}/{} | {} | {} | {} | {} | {:.3f} | {:.0f} | {:.0f} | {:.1f} |\n", k, r.r2,
+               c.tube_segments[0], c.tube_segments[1], c.tube_segments[2], c.line_segments[0], c.line_segments[1],
+               c.line_segments[2], r.triangles, r.leaf_quads, r.discs, r.curves, r.leaf_area_m2,
+               static_cast<double>(r.geometry_bytes) / 1024.0, static_cast<double>(r.bvh_bytes) / 1024.0, r.build_ms);
+  }
+}
+
 int run_tree(const TreeArgs& a) {
   const std::vector<OutputFile> outputs{{"--obj", a.obj}, {"--ply", a.ply}};
   check_outputs(outputs, {a.species});
@@ -96,6 +114,7 @@ int run_tree(const TreeArgs& a) {
   if (!a.obj.empty()) write_obj(a.obj, mesh);
   if (!a.ply.empty()) write_ply(a.ply, mesh);
   if (a.stats) fmt::print("{}", tree_stats_json(compute_tree_stats(model, mesh), species.name, a.seed, ms));
+  if (a.lod) print_lod_levels(report_lod_levels(model, mesh, mesh_options));
   return 0;
 }
 
@@ -115,6 +134,8 @@ CommandRun add_tree_command(CLI::App& parent) {
   cmd->add_option("--obj", args->obj, "Write the mesh as Wavefront OBJ (half-space crowns: their polygonised surface)");
   cmd->add_option("--ply", args->ply, "Write the mesh as binary PLY");
   cmd->add_flag("--stats", args->stats, "Print statistics as JSON");
+  cmd->add_flag("--lod", args->lod,
+                "Print the levels of detail (Weber & Penn §5, docs/lod.md): elements, leaf area, memory and BVH size");
   return [args] { return run_tree(*args); };
 }
 

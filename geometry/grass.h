@@ -13,9 +13,12 @@ namespace sylva {
 
 // Cubic Bézier ribbons: curve k has control points 4k … 4k+3, each (x, y, z, half-width), and a
 // unit normal per control point; the ribbon spans ±half-width along cross(tangent, normal).
+// With `round`, the curves are round tubes of radius w instead (Embree round Bézier curves: stems
+// drawn as lines at range, geometry/trees/lod.h) and `normals` is empty.
 struct CurveSet {
   std::vector<Vec4> points;
   std::vector<Vec3> normals;
+  bool round = false;
 
   size_t size() const { return points.size() / 4; }
 };

@@ -86,6 +86,19 @@ void solid_occluded(const RTCOccludedFunctionNArguments* args) {
   }
 }
 
+// Round curves (stems drawn as lines at range): a ray leaving a tube (offset along the normal by a
+// few ulps) can re-hit it at t ≈ 0, since Embree's curve intersection is approximate at that scale;
+// hits closer than this are rejected in both the intersection and the occlusion filter. 0.1 mm is
+// below a line's width and above the re-hit distances (µm).
+constexpr float kCurveMinDistance_m = 1e-4f;
+
+void curve_near_filter(const RTCFilterFunctionNArguments* args) {
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    if (RTCRayN_tfar(args->ray, args->N, i) < kCurveMinDistance_m) args->valid[i] = 0;
+  }
+}
+
 // Grass ribbons reach Embree as triangle strips of this many quads per blade (tessellate_ribbons):
 // Embree's normal-oriented Bézier curves cost about 40 % of the default forest's render time, its
 // triangles a fraction of that, and six straight pieces follow a blade's arc to well under its width.
@@ -171,6 +184,7 @@ struct EmbreeScene::Impl {
   std::vector<unsigned> leaf_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<unsigned> solid_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<unsigned> curve_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
+  std::vector<uint8_t> curves_round;    // per prototype: its curves are Embree curves, not strips
   std::vector<unsigned> disc_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
   // Cyclic plot: the cell [lo, hi] (x, y), its period, and the heights outside which no geometry lies.
@@ -280,17 +294,34 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     unsigned curve_id = RTC_INVALID_GEOMETRY_ID;
     const CurveSet& cs = proto.curves;
     if (cs.size() > 0) {
-      if (cs.points.size() != 4 * cs.size() || cs.normals.size() != cs.points.size())
-        throw Error(fmt::format("prototype '{}': curves need 4 control points and 4 normals each", proto.name));
-      std::vector<Vec3> points;
-      std::vector<glm::uvec3> strips;
-      tessellate_ribbons(cs, kRibbonSegments, points, strips);
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      set_vertices(g, points);
-      auto* idx = static_cast<unsigned*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), strips.size()));
-      for (size_t i = 0; i < strips.size(); ++i)
-        for (int k = 0; k < 3; ++k) idx[3 * i + k] = strips[i][k];
+      if (cs.points.size() != 4 * cs.size() || cs.normals.size() != (cs.round ? 0 : cs.points.size()))
+        throw Error(
+            fmt::format("prototype '{}': curves need 4 control points each and, unless round, 4 normals", proto.name));
+      RTCGeometry g;
+      if (cs.round) {
+        // Round curves (stems drawn as lines, geometry/trees/lod.h) are Embree's round Bézier tubes.
+        g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
+                                                              4 * sizeof(float), cs.points.size()));
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), cs.size()));
+        for (size_t i = 0; i < cs.points.size(); ++i)
+          for (int k = 0; k < 4; ++k) v[4 * i + k] = cs.points[i][k];
+        for (size_t i = 0; i < cs.size(); ++i) idx[i] = static_cast<unsigned>(4 * i);
+        rtcSetGeometryIntersectFilterFunction(g, curve_near_filter);
+        rtcSetGeometryOccludedFilterFunction(g, curve_near_filter);
+      } else {
+        // Ribbons (grass blades) as triangle strips.
+        std::vector<Vec3> points;
+        std::vector<glm::uvec3> strips;
+        tessellate_ribbons(cs, kRibbonSegments, points, strips);
+        g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        set_vertices(g, points);
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), strips.size()));
+        for (size_t i = 0; i < strips.size(); ++i)
+          for (int k = 0; k < 3; ++k) idx[3 * i + k] = strips[i][k];
+      }
       rtcCommitGeometry(g);
       curve_id = rtcAttachGeometry(s, g);
       rtcReleaseGeometry(g);
@@ -326,6 +357,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     impl_->leaf_geom_id.push_back(leaf_id);
     impl_->solid_geom_id.push_back(solid_id);
     impl_->curve_geom_id.push_back(curve_id);
+    impl_->curves_round.push_back(cs.round ? 1 : 0);
     impl_->disc_geom_id.push_back(disc_id);
   }
 
@@ -517,7 +549,7 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
   hit->curve = rh.hit.geomID == impl_->curve_geom_id[proto];
   hit->disc = rh.hit.geomID == impl_->disc_geom_id[proto];
-  if (hit->curve) hit->primitive = rh.hit.primID / (2 * kRibbonSegments);
+  if (hit->curve && !impl_->curves_round[proto]) hit->primitive = rh.hit.primID / (2 * kRibbonSegments);
   if (hit->solid || hit->curve) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }

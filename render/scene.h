@@ -30,8 +30,9 @@ struct Prototype {
   // solid, never empty.
   std::vector<HalfSpaceSolid> solids;
   std::vector<std::vector<uint32_t>> solid_palettes;
-  // Thin two-sided ribbons (grass blades: cubic Bézier ribbons, traced as triangle strips) in `curve_material`
-  // (a leaf material: reflectance and transmittance).
+  // Thin two-sided ribbons (grass blades: cubic Bézier ribbons, traced as triangle strips) in
+  // `curve_material` (a leaf material: reflectance and transmittance), or round tubes
+  // (CurveSet::round: stems drawn as lines at range, geometry/trees/lod.h) in a bark material.
   CurveSet curves;
   uint32_t curve_material = 0;
   // Leaves as exact discs (RAMI abstract canopies, [[leaves]] files), two-sided with this leaf

@@ -19,6 +19,7 @@
 #include "scenes/placement_list.h"
 #include "scenes/species.h"
 #include "scenes/toml_reader.h"
+#include "scenes/tree_lod.h"
 
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
@@ -59,6 +60,7 @@ class SceneParser {
         {"render", &SceneParser::parse_render},
         {"bands", &SceneParser::parse_bands},
         {"camera", &SceneParser::parse_camera},
+        {"lod", &SceneParser::parse_lod},
         {"sun", &SceneParser::parse_sun},
         {"sky", &SceneParser::parse_sky},
         {"haze", &SceneParser::parse_haze},
@@ -135,6 +137,17 @@ class SceneParser {
         t->fail("response", e.what());
       }
     }
+  }
+
+  // [lod]: Weber & Penn §5 level of detail for the trees of [vegetation] and [[placements]]
+  // (docs/lod.md), on when the table is present unless `enabled = false`; `bias` scales the ranges
+  // at which detail drops (2 = twice as far). Parsed after [render] and [camera], whose image
+  // height and field of view give each tree's calibrated range.
+  void parse_lod(const Params& root) {
+    const Params* t = root.table("lod");
+    t->check_keys({"enabled", "bias"});
+    lod_.enabled = t->boolean("enabled", true);
+    lod_.bias = t->real("bias", 1.0, 1e-3, 1e3);
   }
 
   // [camera]: the view frame, and a projection from the registry (render/sensors/camera.h) that
@@ -695,6 +708,9 @@ class SceneParser {
       });
       std::vector<std::vector<uint32_t>> variant_protos(variants.size());
       std::vector<uint32_t> variant_ids(variants.size());
+      std::vector<std::string> variant_keys(variants.size());
+      std::vector<Bounds3> variant_bounds(variants.size());
+      std::vector<GeneratedTree> lod_sources(lod_.enabled ? variants.size() : 0);  // kept for the levels
       for (size_t v = 0; v < variants.size(); ++v) {
         const Kind& kind = kinds[variants[v].first];
         const uint64_t seed = variants[v].second;
@@ -705,24 +721,22 @@ class SceneParser {
                         kind.options.wind_speed, kind.options.wind_gust, kind.with_leaves);
         for (const uint32_t m : kind.materials) key += fmt::format("|{}", m);
         if (kind.table->has("dead_bark")) key += "|dead " + kind.table->string("dead_bark");
+        if (lod_.enabled) {
+          variant_bounds[v] = bounds_of(generated[v].mesh);
+          lod_sources[v] = lod_source(generated[v]);
+        }
         auto it = tree_prototypes_.find(key);
         if (it == tree_prototypes_.end())
           it = tree_prototypes_
                    .emplace(key, add_tree_prototypes(*kind.table, kind.species->name, generated[v], kind.materials))
                    .first;
         generated[v] = GeneratedTree{};
+        variant_keys[v] = key;
         variant_protos[v] = it->second;
         variant_ids[v] = variant_of(key, {"tree", kind.species->name, kind.file.string(), seed, kind.class_id});
       }
 
-      std::vector<Instance>& instances = out_.scene.instances;
-      const size_t first = instances.size();
-      size_t count = 0;
-      for (const Row& r : rows) count += variant_protos[r.variant].size();
-      instances.reserve(first + count);
-      uint32_t object = 0;
-      for (const Row& r : rows) {
-        ++object;
+      const auto placed = [](const Row& r) {
         const float heading = radians(r.heading_deg);
         const float c = std::cos(heading) * r.scale, sn = std::sin(heading) * r.scale;
         // Translate · rotate by −heading about Z (a compass bearing turns clockwise) · scale.
@@ -731,8 +745,47 @@ class SceneParser {
         m[1] = Vec4(sn, c, 0.0f, 0.0f);
         m[2] = Vec4(0.0f, 0.0f, r.scale, 0.0f);
         m[3] = Vec4(r.x, r.y, r.z, 1.0f);
+        return m;
+      };
+      // With [lod], each row's level (docs/lod.md); a level's prototypes are added once, when
+      // first used, in variant then level order (so independent of the thread count).
+      const size_t levels = kLodLevelR2.size();
+      std::vector<uint8_t> row_level(lod_.enabled ? rows.size() : 0, 0);
+      std::vector<uint8_t> used(variants.size() * levels, 0);
+      for (size_t i = 0; i < row_level.size(); ++i) {
+        row_level[i] = static_cast<uint8_t>(lod_level_of(variant_bounds[rows[i].variant], placed(rows[i])));
+        used[rows[i].variant * levels + row_level[i]] = 1;
+      }
+      std::vector<std::vector<uint32_t>> level_protos(variants.size() * levels);
+      for (size_t v = 0; v < variants.size(); ++v) level_protos[v * levels] = variant_protos[v];
+      for (size_t v = 0; v < variants.size(); ++v)
+        for (size_t k = 1; k < levels; ++k)
+          if (tree_prototypes_.count(fmt::format("{}|lod {}", variant_keys[v], k))) used[v * levels + k] = 0;
+      for (LodJob& job : build_lod_levels(used, lod_sources)) {
+        const Kind& kind = kinds[variants[job.variant].first];
+        tree_prototypes_.emplace(fmt::format("{}|lod {}", variant_keys[job.variant], job.level),
+                                 add_lod_prototypes(*kind.table, kind.species->name, job.lod, kind.materials));
+      }
+      lod_sources.clear();
+      for (size_t v = 0; v < variants.size(); ++v)
+        for (size_t k = 1; k < levels; ++k) {
+          auto it = tree_prototypes_.find(fmt::format("{}|lod {}", variant_keys[v], k));
+          if (it != tree_prototypes_.end()) level_protos[v * levels + k] = it->second;
+        }
+
+      std::vector<Instance>& instances = out_.scene.instances;
+      const size_t first = instances.size();
+      size_t count = 0;
+      for (size_t i = 0; i < rows.size(); ++i)
+        count += level_protos[rows[i].variant * levels + (row_level.empty() ? 0 : row_level[i])].size();
+      instances.reserve(first + count);
+      uint32_t object = 0;
+      for (size_t i = 0; i < rows.size(); ++i) {
+        const Row& r = rows[i];
+        ++object;
+        const Mat4 m = placed(r);
         const Kind& kind = kinds[variants[r.variant].first];
-        for (const uint32_t proto : variant_protos[r.variant])
+        for (const uint32_t proto : level_protos[r.variant * levels + (row_level.empty() ? 0 : row_level[i])])
           instances.push_back(Instance{proto, m, object, kind.class_id, variant_ids[r.variant]});
       }
       if (object > kMaxObjectId) t->fail(fmt::format("more than {} placed trees", kMaxObjectId));
@@ -828,9 +881,11 @@ class SceneParser {
 
   // A tree made from a species and seed (TreeModel and mesh), or the message of why it could not
   // be. Pure, so variants can be generated in parallel.
+  // `mesh_options` are those it was meshed with (for its levels of detail).
   struct GeneratedTree {
     TreeModel model;
     TreeMesh mesh;
+    TreeMeshOptions mesh_options;
     std::string error;
   };
   static GeneratedTree generate_tree(const Species& species, uint64_t seed, const TreeOptions& options,
@@ -838,11 +893,10 @@ class SceneParser {
     GeneratedTree out;
     try {
       out.model = make_species_model(species, seed, options);
-      TreeMeshOptions mesh_options;
-      mesh_options.quality = options.quality;
-      mesh_options.split_dead_stems = true;
-      mesh_options.leaves = with_leaves;
-      out.mesh = mesh_species_model(species, out.model, mesh_options);
+      out.mesh_options.quality = options.quality;
+      out.mesh_options.split_dead_stems = true;
+      out.mesh_options.leaves = with_leaves;
+      out.mesh = mesh_species_model(species, out.model, out.mesh_options);
     } catch (const Error& e) {
       out.error = e.what();
     }
@@ -876,6 +930,58 @@ class SceneParser {
     }
     tree.model = TreeModel{};
     return protos;
+  }
+
+  // The prototypes of one level of detail of a generated tree (lod_prototypes), in the layout of
+  // add_tree_prototypes; dead branches take the table's `dead_bark`, else darker bark.
+  std::vector<uint32_t> add_lod_prototypes(const Params& t, const std::string& name, TreeLod& level,
+                                           const std::vector<uint32_t>& materials) {
+    const bool dead = !level.mesh.dead_stems.triangles.empty() || level.dead_lines.size() > 0;
+    const uint32_t dead_material = !dead                ? materials[0]
+                                   : t.has("dead_bark") ? material_ref(t, "dead_bark")
+                                                        : darker_bark(materials[0]);
+    std::vector<uint32_t> ids;
+    for (Prototype& p : lod_prototypes(name, level, materials, dead_material))
+      ids.push_back(out_.scene.add_prototype(std::move(p)));
+    return ids;
+  }
+
+  // What make_tree_lod reads of a generated tree: the model, the leaf quads and the mesh options
+  // (not the bark tubes, which it meshes again from the model).
+  static GeneratedTree lod_source(const GeneratedTree& tree) {
+    GeneratedTree out;
+    out.model = tree.model;
+    out.mesh.leaves = tree.mesh.leaves;
+    out.mesh_options = tree.mesh_options;
+    return out;
+  }
+
+  // Levels of detail to build: level `level` ≥ 1 of variant `variant`, from the variant's tree.
+  struct LodJob {
+    size_t variant = 0;
+    size_t level = 0;
+    TreeLod lod;
+  };
+  // `used[v · levels + k]` marks level k of variant v as drawn by some instance: the jobs for
+  // k ≥ 1, in variant then level order, built in parallel from `sources` (results by index, so
+  // independent of the thread count).
+  static std::vector<LodJob> build_lod_levels(const std::vector<uint8_t>& used,
+                                              const std::vector<GeneratedTree>& sources) {
+    const size_t levels = kLodLevelR2.size();
+    std::vector<LodJob> jobs;
+    for (size_t i = 0; i < used.size(); ++i)
+      if (used[i] && i % levels != 0) jobs.push_back(LodJob{i / levels, i % levels, {}});
+    tbb::parallel_for(size_t{0}, jobs.size(), [&](size_t i) {
+      const GeneratedTree& g = sources[jobs[i].variant];
+      jobs[i].lod = make_tree_lod(g.model, g.mesh, g.mesh_options, kLodLevelR2[jobs[i].level]);
+    });
+    return jobs;
+  }
+
+  // The level of detail of a tree placed by `world_from_object` (0 = full; 0 without [lod]).
+  int lod_level_of(const Bounds3& object, const Mat4& world_from_object) const {
+    return instance_lod_level(lod_, out_.scene.camera, out_.render.width, out_.render.height,
+                              transformed(object, world_from_object));
   }
 
   // A Fournier–Grindal tree: one prototype holding its solids (trunk, crown), made once per
@@ -1134,6 +1240,7 @@ class SceneParser {
       size_t entry = 0;
       uint64_t seed = 0;
       GeneratedTree tree;
+      Bounds3 bounds;  // with [lod]
     };
     std::vector<SpeciesPlacement> rules;
     std::vector<Variant> variants;
@@ -1166,7 +1273,7 @@ class SceneParser {
       rule.scale_range = range(*e, "scale", Vec2(1.0f), 1e-3, 1e3);
       const int count = static_cast<int>(e->integer("variants", 1, 1, 1000));
       const uint64_t first_seed = static_cast<uint64_t>(e->integer("seed", 1, 0, INT64_MAX - 1000));
-      for (int k = 0; k < count; ++k) variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}});
+      for (int k = 0; k < count; ++k) variants.push_back({rules.size(), first_seed + static_cast<uint64_t>(k), {}, {}});
       rules.push_back(rule);
     }
     // Every variant once, in parallel; results (and the first error, in entry order) do not
@@ -1176,6 +1283,8 @@ class SceneParser {
       v.tree = generate_tree(*species[v.entry], v.seed, options[v.entry], true);
     });
     std::vector<std::vector<std::vector<uint32_t>>> protos(rules.size());
+    std::vector<std::vector<size_t>> variant_index(rules.size());                // (entry, k-th variant) → variants
+    std::vector<GeneratedTree> lod_sources(lod_.enabled ? variants.size() : 0);  // kept for the levels
     std::vector<std::vector<uint32_t>> variant_ids(rules.size());
     std::vector<uint32_t> class_ids;
     for (const Species* sp : species) class_ids.push_back(class_of(sp->name));
@@ -1189,7 +1298,16 @@ class SceneParser {
         if (p.z < 0.1f) radius = std::max(radius, glm::length(Vec2(p)));
       rules[v.entry].trunk_radius_m.push_back(radius);
       const std::string name = fmt::format("{} seed {}", e.string("name", species[v.entry]->name), v.seed);
-      protos[v.entry].push_back(add_tree_prototypes(e, name, v.tree, materials[v.entry]));
+      const size_t index = static_cast<size_t>(&v - variants.data());
+      if (lod_.enabled) {
+        // Its prototypes (full and reduced) are added after placement, for the levels in use.
+        v.bounds = bounds_of(v.tree.mesh);
+        lod_sources[index] = std::move(v.tree);
+        protos[v.entry].emplace_back();
+      } else {
+        protos[v.entry].push_back(add_tree_prototypes(e, name, v.tree, materials[v.entry]));
+      }
+      variant_index[v.entry].push_back(index);
       v.tree = GeneratedTree{};
       variant_ids[v.entry].push_back(
           variant_of(fmt::format("vegetation|{}|{}|{}", v.entry, file.string(), v.seed),
@@ -1248,13 +1366,41 @@ class SceneParser {
     if (first_id + static_cast<int64_t>(trees.size()) > (int64_t{1} << 24))
       t->fail("first_object_id",
               fmt::format("{} trees from object id {} exceed the largest id, 2^24", trees.size(), first_id));
+    const auto placed = [](const PlacedTree& tree) {
+      Mat4 m = glm::translate(Mat4(1.0f), tree.base_m);
+      m = glm::rotate(m, tree.heading_rad, Vec3(0, 0, 1));
+      return glm::scale(m, Vec3(tree.scale));
+    };
+    // With [lod], each tree's level (docs/lod.md); a level's prototypes, the full tree's included,
+    // are added only if some tree uses it, in variant then level order.
+    const size_t levels = kLodLevelR2.size();
+    std::vector<uint8_t> tree_level(lod_.enabled ? trees.size() : 0, 0);
+    std::vector<uint8_t> used(variants.size() * levels, 0);
+    for (size_t i = 0; i < tree_level.size(); ++i) {
+      const size_t v = variant_index[trees[i].species][trees[i].variant];
+      tree_level[i] = static_cast<uint8_t>(lod_level_of(variants[v].bounds, placed(trees[i])));
+      used[v * levels + tree_level[i]] = 1;
+    }
+    std::vector<std::vector<uint32_t>> level_protos(variants.size() * levels);
+    std::vector<LodJob> jobs = build_lod_levels(used, lod_sources);
+    size_t job = 0;
+    for (size_t v = 0; v < lod_sources.size(); ++v) {
+      const Params& e = *entries[variants[v].entry];
+      const std::string name =
+          fmt::format("{} seed {}", e.string("name", species[variants[v].entry]->name), variants[v].seed);
+      const std::vector<uint32_t>& mats = materials[variants[v].entry];
+      if (used[v * levels]) level_protos[v * levels] = add_tree_prototypes(e, name, lod_sources[v], mats);
+      for (; job < jobs.size() && jobs[job].variant == v; ++job)
+        level_protos[v * levels + jobs[job].level] = add_lod_prototypes(e, name, jobs[job].lod, mats);
+      lod_sources[v] = GeneratedTree{};
+    }
     out_.scene.instances.reserve(out_.scene.instances.size() + trees.size());
     for (size_t i = 0; i < trees.size(); ++i) {
       const PlacedTree& tree = trees[i];
-      Mat4 m = glm::translate(Mat4(1.0f), tree.base_m);
-      m = glm::rotate(m, tree.heading_rad, Vec3(0, 0, 1));
-      m = glm::scale(m, Vec3(tree.scale));
-      for (const uint32_t proto : protos[tree.species][tree.variant])
+      const Mat4 m = placed(tree);
+      const int level = tree_level.empty() ? 0 : tree_level[i];
+      const size_t v = variant_index[tree.species][tree.variant];
+      for (const uint32_t proto : lod_.enabled ? level_protos[v * levels + level] : protos[tree.species][tree.variant])
         out_.scene.instances.push_back(Instance{proto, m, static_cast<uint32_t>(first_id + static_cast<int64_t>(i)),
                                                 class_ids[tree.species], variant_ids[tree.species][tree.variant]});
     }
@@ -1300,6 +1446,7 @@ class SceneParser {
   // prototype and size of each grass type.
   std::optional<HeightField> terrain_;
   bool camera_above_terrain_ = false;
+  LodSettings lod_;  // [lod]
   Vec2 extent_min_{0.0f}, extent_max_{0.0f};
   struct GrassType {
     uint32_t prototype = 0;
