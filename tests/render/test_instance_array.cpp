@@ -297,5 +297,33 @@ TEST(InstanceArray, EmbreeBytesPerInstanceBounded) {
   EXPECT_EQ(hit.instance, 12345u);
 }
 
+// The pre-render memory estimate (docs/limits.md) counts grass curves and the instance level, and
+// covers what Embree reports for a built scene of both.
+TEST(InstanceArray, MemoryEstimateCountsCurvesAndInstances) {
+  const RenderSettings settings = test_settings(8, 8, 1);
+  Scene s;
+  Prototype grass;
+  GrassParams gp;
+  gp.patch_size_m = 4.0f;
+  grass.curves = make_grass_patch(gp, 3);
+  const uint64_t curves = grass.curves.size();
+  s.add_prototype(std::move(grass));
+  const uint64_t empty = estimate_render_memory(s, settings).bvh_bytes;
+  EXPECT_EQ(empty, curves * kBvhBytesPerCurve);
+  for (int i = 0; i < 20000; ++i)
+    s.instances.push_back({0, glm::translate(Mat4(1.0f), Vec3(4.0f * static_cast<float>(i % 150),
+                                                              4.0f * static_cast<float>(i / 150), 0.0f))});
+  const uint64_t array = estimate_render_memory(s, settings).bvh_bytes;
+  EXPECT_EQ(array, empty + 20000 * kArrayInstanceBytes);
+  s.instance_level = InstanceLevel::native;
+  EXPECT_EQ(estimate_render_memory(s, settings).bvh_bytes, empty + 20000 * kNativeInstanceBytes);
+  s.instance_level = InstanceLevel::automatic;
+  const EmbreeScene embree(s);
+  ASSERT_TRUE(embree.stats().instance_array);
+  std::printf("[instance array] estimate %llu bytes, Embree %zu bytes\n", static_cast<unsigned long long>(array),
+              embree.stats().bvh_bytes);
+  EXPECT_GE(array, embree.stats().bvh_bytes);
+}
+
 }  // namespace
 }  // namespace sylva::test
