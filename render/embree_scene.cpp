@@ -159,6 +159,106 @@ float wrap(float x, float lo, float period) {
   return w;
 }
 
+// The instance array (InstanceLevel::array): one user geometry over every placed copy. Primitive p
+// is copy k = p / count of instance i = p % count — the ids native instances would have — so a hit's
+// instID[0] means the same on both paths. A ray reaches an instance's prototype as through Embree's
+// own instances: origin and direction moved into object space by the inverse transform and not
+// renormalised, so every distance (tnear, tfar, the hit's t) is the same number in world and object
+// units, whatever the instance's scale; the prototype's filters (leaf outlines, the curve near-hit
+// filter) run inside its own BVH. Per instance nothing is stored beyond Scene::instances: the inverse
+// is computed per visit (as fast as a stored one, measured: bench_placements.cpp), which saves 48
+// bytes per instance.
+struct InstanceArray {
+  const Instance* instances = nullptr;
+  const RTCScene* prototypes = nullptr;       // per prototype
+  const Bounds3* prototype_bounds = nullptr;  // per prototype, object space
+  uint32_t count = 0;                         // instances (one period)
+  Vec2 period{0.0f};
+};
+
+// An instance's world box, copy `k`: its prototype's object box through the transform, widened by
+// a few ulps of its coordinates so that rounding in the corners' transform cannot cut off a hit
+// found in object space. Empty (inverted, which Embree leaves out) for an empty prototype or a
+// singular transform (a copy flattened to nothing).
+Bounds3 array_instance_bounds(const InstanceArray& a, uint32_t i, uint32_t k) {
+  const Instance& inst = a.instances[i];
+  if (glm::determinant(Mat3(inst.world_from_object)) == 0.0f) return Bounds3{};
+  Bounds3 b = transformed(a.prototype_bounds[inst.prototype], inst.world_from_object);
+  if (b.empty()) return b;
+  const Vec2 shift = kCellShifts[k] * a.period;
+  b.lo += Vec3(shift, 0.0f);
+  b.hi += Vec3(shift, 0.0f);
+  const Vec3 pad = 4.0f * std::numeric_limits<float>::epsilon() * glm::max(glm::abs(b.lo), glm::abs(b.hi));
+  b.lo -= pad;
+  b.hi += pad;
+  return b;
+}
+
+void array_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto& a = *static_cast<const InstanceArray*>(args->geometryUserPtr);
+  const Bounds3 b = array_instance_bounds(a, args->primID % a.count, args->primID / a.count);
+  *args->bounds_o = RTCBounds{b.lo.x, b.lo.y, b.lo.z, 0.0f, b.hi.x, b.hi.y, b.hi.z, 0.0f};
+}
+
+// Ray `j` of `rays` moved into the object space of array primitive `prim`.
+RTCRay array_object_ray(const InstanceArray& a, unsigned prim, RTCRayN* rays, unsigned n, unsigned j) {
+  const Mat4& world_from_object = a.instances[prim % a.count].world_from_object;
+  const Mat3 object_from_world = glm::inverse(Mat3(world_from_object));
+  // The origin relative to the copy's own origin first, then turned and scaled: the subtraction
+  // cancels the large world coordinates before any rounding of a product.
+  const Vec3 origin = Vec3(world_from_object[3]) + Vec3(kCellShifts[prim / a.count] * a.period, 0.0f);
+  const Vec3 o(RTCRayN_org_x(rays, n, j), RTCRayN_org_y(rays, n, j), RTCRayN_org_z(rays, n, j));
+  const Vec3 d(RTCRayN_dir_x(rays, n, j), RTCRayN_dir_y(rays, n, j), RTCRayN_dir_z(rays, n, j));
+  const Vec3 o_obj = object_from_world * (o - origin);
+  const Vec3 d_obj = object_from_world * d;
+  RTCRay r{};
+  r.org_x = o_obj.x;
+  r.org_y = o_obj.y;
+  r.org_z = o_obj.z;
+  r.dir_x = d_obj.x;
+  r.dir_y = d_obj.y;
+  r.dir_z = d_obj.z;
+  r.tnear = RTCRayN_tnear(rays, n, j);
+  r.tfar = RTCRayN_tfar(rays, n, j);
+  r.time = RTCRayN_time(rays, n, j);
+  r.mask = RTCRayN_mask(rays, n, j);
+  return r;
+}
+
+void array_intersect(const RTCIntersectFunctionNArguments* args) {
+  const auto& a = *static_cast<const InstanceArray*>(args->geometryUserPtr);
+  RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+  RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+  RTCScene prototype = a.prototypes[a.instances[args->primID % a.count].prototype];
+  for (unsigned j = 0; j < args->N; ++j) {
+    if (args->valid[j] != -1) continue;
+    RTCRayHit rh{};
+    rh.ray = array_object_ray(a, args->primID, rays, args->N, j);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) rh.hit.instID[l] = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(prototype, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    RTCRayN_tfar(rays, args->N, j) = rh.ray.tfar;
+    rh.hit.instID[0] = args->primID;
+    rtcCopyHitToHitN(hits, &rh.hit, args->N, j);
+  }
+}
+
+void array_occluded(const RTCOccludedFunctionNArguments* args) {
+  const auto& a = *static_cast<const InstanceArray*>(args->geometryUserPtr);
+  RTCScene prototype = a.prototypes[a.instances[args->primID % a.count].prototype];
+  for (unsigned j = 0; j < args->N; ++j) {
+    if (args->valid[j] != -1) continue;
+    RTCRay r = array_object_ray(a, args->primID, args->ray, args->N, j);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded1(prototype, &context, &r);
+    if (r.tfar < 0.0f) RTCRayN_tfar(args->ray, args->N, j) = -std::numeric_limits<float>::infinity();
+  }
+}
+
 std::atomic<int64_t> g_embree_bytes{0};
 std::atomic<int64_t> g_embree_peak{0};
 
@@ -187,6 +287,10 @@ struct EmbreeScene::Impl {
   std::vector<uint8_t> curves_round;    // per prototype: its curves are Embree curves, not strips
   std::vector<unsigned> disc_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
+  // The instance array (uses_instance_array): per prototype its object-space bounds; `array` points
+  // into them, the prototypes' scenes and the Scene's instances.
+  std::vector<Bounds3> prototype_bounds;
+  InstanceArray array;
   // Cyclic plot: the cell [lo, hi] (x, y), its period, and the heights outside which no geometry lies.
   bool cyclic = false;
   Vec2 lo{0.0f}, hi{0.0f}, period{0.0f};
@@ -362,7 +466,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
   }
 
   impl_->top = rtcNewScene(device);
-  rtcSetSceneFlags(impl_->top, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneFlags(impl_->top,
+                   RTC_SCENE_FLAG_ROBUST | (uses_instance_array(scene) ? RTC_SCENE_FLAG_COMPACT : RTC_SCENE_FLAG_NONE));
   rtcSetSceneBuildQuality(impl_->top, RTC_BUILD_QUALITY_HIGH);
   const PlotDesc& plot = scene.plot;
   impl_->cyclic = plot.defined && plot.cyclic;
@@ -372,16 +477,56 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     impl_->hi = plot.hi;
     impl_->period = plot.hi - plot.lo;
   }
-  // Copy k of instance i has the Embree id k·N + i: copy 0 is the instance itself, copies 1–8 its
-  // shifts by whole periods (cyclic plots only).
   const int copies = impl_->cyclic ? 9 : 1;
+  const size_t n_instances = scene.instances.size();
+  impl_->instance_prototype.reserve(n_instances);
+  for (size_t i = 0; i < n_instances; ++i) {
+    const Instance& inst = scene.instances[i];
+    if (inst.prototype >= impl_->prototypes.size())
+      throw Error(fmt::format("instance {} refers to missing prototype {}", i, inst.prototype));
+    impl_->instance_prototype.push_back(inst.prototype);
+    const Prototype& p = scene.prototypes[inst.prototype];
+    stats_.instanced_triangles += p.triangles.triangles.size();
+    stats_.instanced_leaf_quads += p.leaves.size();
+    stats_.instanced_curves += p.curves.size();
+  }
+  stats_.instance_array = uses_instance_array(scene);
+  if (stats_.instance_array)
+    add_instance_array(scene, copies);
+  else
+    add_native_instances(scene, copies);
+  stats_.instances = n_instances;
+  rtcCommitScene(impl_->top);
+  check(device, "building the instance BVH");
+  impl_->z_lo = bounds_.lo.z;
+  impl_->z_hi = bounds_.hi.z;
+  stats_.bvh_bytes = static_cast<size_t>(std::max<int64_t>(0, g_embree_peak.load() - base_bytes));
+  stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+EmbreeScene::~EmbreeScene() = default;
+
+bool uses_instance_array(const Scene& scene) {
+  switch (scene.instance_level) {
+    case InstanceLevel::native:
+      return false;
+    case InstanceLevel::array:
+      return true;
+    case InstanceLevel::automatic:
+      break;
+  }
+  const size_t copies = scene.plot.defined && scene.plot.cyclic ? 9 : 1;
+  return scene.instances.size() * copies >= kInstanceArrayThreshold;
+}
+
+// One Embree instance per copy: copy k of instance i has the Embree id k·N + i (copy 0 is the
+// instance itself, copies 1–8 its shifts by whole periods in a cyclic plot).
+void EmbreeScene::add_native_instances(const Scene& scene, int copies) {
   const size_t n_instances = scene.instances.size();
   for (int k = 0; k < copies; ++k) {
     for (size_t i = 0; i < n_instances; ++i) {
       const Instance& inst = scene.instances[i];
-      if (inst.prototype >= impl_->prototypes.size())
-        throw Error(fmt::format("instance {} refers to missing prototype {}", i, inst.prototype));
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      RTCGeometry g = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_INSTANCE);
       rtcSetGeometryInstancedScene(g, impl_->prototypes[inst.prototype]);
       const Vec2 offset = kCellShifts[k] * impl_->period;
       float xfm[12];
@@ -394,12 +539,6 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
       const unsigned id = rtcAttachGeometry(impl_->top, g);
       rtcReleaseGeometry(g);
       if (id != k * n_instances + i) throw Error("embree: unexpected instance id");
-      if (k > 0) continue;
-      impl_->instance_prototype.push_back(inst.prototype);
-      const Prototype& p = scene.prototypes[inst.prototype];
-      stats_.instanced_triangles += p.triangles.triangles.size();
-      stats_.instanced_leaf_quads += p.leaves.size();
-      stats_.instanced_curves += p.curves.size();
     }
     if (k == 0 && n_instances > 0) {
       // The bounds of one period, before the shifted copies join the scene.
@@ -410,16 +549,44 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
       bounds_.extend(Vec3(b.upper_x, b.upper_y, b.upper_z));
     }
   }
-  stats_.instances = n_instances;
-  rtcCommitScene(impl_->top);
-  check(device, "building the instance BVH");
-  impl_->z_lo = bounds_.lo.z;
-  impl_->z_hi = bounds_.hi.z;
-  stats_.bvh_bytes = static_cast<size_t>(std::max<int64_t>(0, g_embree_peak.load() - base_bytes));
-  stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-EmbreeScene::~EmbreeScene() = default;
+// The instance array: one user geometry of copies·N primitives (primitive k·N + i is copy k of
+// instance i, as the native ids); nothing stored per instance beyond the Scene's.
+void EmbreeScene::add_instance_array(const Scene& scene, int copies) {
+  const size_t n_instances = scene.instances.size();
+  if (n_instances == 0) return;
+  if (n_instances * static_cast<size_t>(copies) >= RTC_INVALID_GEOMETRY_ID)
+    throw Error(fmt::format("{} instances are more than the instance array holds", n_instances));
+  Impl& m = *impl_;
+  m.prototype_bounds.resize(m.prototypes.size());
+  for (size_t p = 0; p < m.prototypes.size(); ++p) {
+    RTCBounds b;
+    rtcGetSceneBounds(m.prototypes[p], &b);
+    if (b.lower_x <= b.upper_x) {
+      m.prototype_bounds[p].extend(Vec3(b.lower_x, b.lower_y, b.lower_z));
+      m.prototype_bounds[p].extend(Vec3(b.upper_x, b.upper_y, b.upper_z));
+    }
+  }
+  m.array = InstanceArray{scene.instances.data(), m.prototypes.data(), m.prototype_bounds.data(),
+                          static_cast<uint32_t>(n_instances), m.period};
+  for (uint32_t i = 0; i < n_instances; ++i) {
+    const Bounds3 b = array_instance_bounds(m.array, i, 0);
+    if (!b.empty()) {
+      bounds_.extend(b.lo);
+      bounds_.extend(b.hi);
+    }
+  }
+  RTCGeometry g = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(n_instances * static_cast<size_t>(copies)));
+  rtcSetGeometryUserData(g, &m.array);
+  rtcSetGeometryBoundsFunction(g, array_bounds, nullptr);
+  rtcSetGeometryIntersectFunction(g, array_intersect);
+  rtcSetGeometryOccludedFunction(g, array_occluded);
+  rtcCommitGeometry(g);
+  rtcAttachGeometry(m.top, g);
+  rtcReleaseGeometry(g);
+}
 
 namespace {
 

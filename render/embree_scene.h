@@ -1,8 +1,13 @@
 #pragma once
 // The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp (docs/design.md §6).
 // One BVH per prototype (triangles, leaf quads and grass ribbons as geometries of one Embree scene,
-// all handed to Embree as triangles), one single-level instance per placed copy. Leaf outlines are alpha masks applied
-// in both the intersection and the occlusion filter, so shadows see the cut-out. Leaf discs are Embree's
+// all handed to Embree as triangles; round curves and discs as Embree curves and points); placed
+// copies reach it either as one single-level Embree instance each, or — for many copies — as one
+// "instance array": a user geometry whose primitive i is instance i, bounded by the instance's world
+// box, intersected by moving the ray into the prototype's space and tracing the prototype's BVH
+// (Scene::instance_level, kInstanceArrayThreshold; bench/README.md "Placed trees at scale"). Leaf
+// outlines are alpha masks applied in both the intersection and the occlusion filter, so shadows
+// see the cut-out. Leaf discs are Embree's
 // normal-oriented disc points (RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT: the exact disc of a centre,
 // radius and normal).
 //
@@ -36,6 +41,20 @@ struct RayHit {
   bool curve = false;  // hit a curve: `primitive` indexes Prototype::curves
 };
 
+// Embree instances (every copy of a cyclic plot counted) from which InstanceLevel::automatic uses
+// the instance array. Below it, native instances: every golden scene has fewer, so their
+// determinism hashes keep their tie order (docs/design.md §6 "Instance level").
+inline constexpr size_t kInstanceArrayThreshold = 16384;
+
+// Whether `scene` reaches Embree through the instance array (else one native instance per copy).
+bool uses_instance_array(const Scene& scene);
+
+// Bytes per Embree instance at the instance level beyond Scene::instances, measured
+// (bench/README.md): native instances (Embree's geometry object, its transform, the top BVH) and
+// the instance array (inverse transform, prototype index, the top BVH).
+inline constexpr uint64_t kNativeInstanceBytes = 420;
+inline constexpr uint64_t kArrayInstanceBytes = 150;
+
 struct EmbreeStats {
   size_t bvh_bytes = 0;  // peak memory Embree reported through its memory monitor
   double build_ms = 0;
@@ -43,6 +62,7 @@ struct EmbreeStats {
   size_t solids = 0, discs = 0;
   size_t instanced_triangles = 0, instanced_leaf_quads = 0;
   size_t curves = 0, instanced_curves = 0;
+  bool instance_array = false;  // the instances reached Embree as one instance array
 };
 
 // How much time the prototype BVHs' build may take. kThorough (Embree's high quality, with spatial
@@ -87,6 +107,8 @@ class EmbreeScene {
   EmbreeStats stats_;
   Bounds3 bounds_;
 
+  void add_native_instances(const Scene& scene, int copies);
+  void add_instance_array(const Scene& scene, int copies);
   bool intersect_cell(const Ray& ray, RayHit* hit) const;
   bool occluded_cell(const Vec3& origin, const Vec3& direction, float t_max) const;
 };

@@ -78,13 +78,17 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
   uint64_t channels = 0;
   for (const Band& b : settings.bands) channels += b.channels.size();
   const uint64_t pixels = static_cast<uint64_t>(settings.width) * static_cast<uint64_t>(settings.height);
-  uint64_t primitives = 0;
-  for (const Prototype& p : scene.prototypes)
+  uint64_t primitives = 0, curves = 0;
+  for (const Prototype& p : scene.prototypes) {
     primitives += p.triangles.triangles.size() + p.leaves.size() + p.discs.size();
+    curves += p.curves.size();
+  }
+  const uint64_t copies = scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);
   MemoryEstimate m;
   m.film_bytes = pixels * (2 * channels * 2 * sizeof(double) + sizeof(uint32_t));
   m.image_bytes = pixels * ((3 * channels + 8) * sizeof(float) + 3 * sizeof(float) + 3);
-  m.bvh_bytes = primitives * kBvhBytesPerPrimitive;
+  m.bvh_bytes = primitives * kBvhBytesPerPrimitive + curves * kBvhBytesPerCurve +
+                copies * (uses_instance_array(scene) ? kArrayInstanceBytes : kNativeInstanceBytes);
   return m;
 }
 

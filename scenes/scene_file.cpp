@@ -101,7 +101,7 @@ class SceneParser {
  private:
   void parse_render(const Params& root) {
     const Params* t = root.table("render");
-    t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity"});
+    t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing"});
     RenderSettings& rs = out_.render;
     rs.width = static_cast<int>(t->integer("width", rs.width, 1, 65536));
     rs.height = static_cast<int>(t->integer("height", rs.height, 1, 65536));
@@ -119,6 +119,15 @@ class SceneParser {
     if (quantity != "radiance" && quantity != "reflectance")
       t->fail("quantity", "quantity must be \"radiance\" or \"reflectance\"");
     rs.quantity = parse_quantity(quantity);
+    const std::string instancing = t->string("instancing", "auto");
+    if (instancing == "auto")
+      out_.scene.instance_level = InstanceLevel::automatic;
+    else if (instancing == "native")
+      out_.scene.instance_level = InstanceLevel::native;
+    else if (instancing == "array")
+      out_.scene.instance_level = InstanceLevel::array;
+    else
+      t->fail("instancing", "instancing must be \"auto\", \"native\" or \"array\"");
   }
 
   void parse_bands(const Params& root) {

@@ -1,0 +1,329 @@
+// The instance array (render/embree_scene.h, Scene::instance_level): placed copies as one Embree
+// user geometry give the same hits, labels and images as Embree's native instances, in world units
+// under scaled transforms, deterministically, in bounded memory.
+
+#include "render_test_scenes.h"
+
+#include "geometry/grass.h"
+#include "render/embree_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+namespace sylva::test {
+namespace {
+
+Scene with_level(Scene s, InstanceLevel level) {
+  s.instance_level = level;
+  return s;
+}
+
+// A ground, then a 5 x 4 stand of three kinds of prototypes — alpha-cut leaf clouds, boxes, grass
+// patches — each copy turned, scaled non-uniformly (0.6–1.8) and labelled with its own object,
+// class and variant ids; a leaf cloud hangs over every box so shadows cross prototypes.
+Scene stand_scene() {
+  Scene s;
+  s.camera.position = {0, -6.5f, 2.5f};
+  s.camera.target = {0, 1.5f, 1.0f};
+  s.sun.elevation_deg = 40;
+  s.sun.azimuth_deg = 150;
+  const uint32_t soil = s.add_material("soil", make_diffuse("soil", DenseSpectrum::constant(0.2f)));
+  const uint32_t bark = s.add_material("bark", make_diffuse("bark", DenseSpectrum::constant(0.35f)));
+  const uint32_t leaf =
+      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
+  Prototype ground;
+  ground.triangles = make_plane(100, 100);
+  ground.triangle_material = soil;
+  s.instances.push_back({s.add_prototype(std::move(ground)), Mat4(1.0f), 0, kClassTerrain, 0});
+  const uint32_t cloud = s.add_prototype(leaf_cloud_prototype(leaf, 400, 7));
+  Prototype box;
+  box.triangles = make_box(Vec3(0.6f, 0.4f, 1.2f));
+  box.triangle_material = bark;
+  const uint32_t trunk = s.add_prototype(std::move(box));
+  Prototype grass;
+  GrassParams gp;
+  gp.patch_size_m = 1.5f;
+  gp.density_per_m2 = 300.0f;
+  grass.curves = make_grass_patch(gp, 3);
+  grass.curve_material = leaf;
+  const uint32_t patch = s.add_prototype(std::move(grass));
+  uint32_t object = 1;
+  for (int row = 0; row < 4; ++row)
+    for (int col = 0; col < 5; ++col) {
+      const float x = -4.0f + 2.0f * static_cast<float>(col) + 0.3f * static_cast<float>(row % 2);
+      const float y = -1.0f + 2.2f * static_cast<float>(row);
+      const float turn = 0.7f * static_cast<float>(row * 5 + col);
+      const Vec3 scale(0.6f + 0.06f * static_cast<float>(col * 4 + row), 0.8f + 0.1f * static_cast<float>(row),
+                       1.0f + 0.2f * static_cast<float>(col % 3));
+      const Mat4 placed =
+          glm::scale(glm::rotate(glm::translate(Mat4(1.0f), Vec3(x, y, 0.0f)), turn, Vec3(0, 0, 1)), scale);
+      const uint32_t kind = static_cast<uint32_t>(row * 5 + col) % 3;
+      if (kind == 0) {
+        s.instances.push_back({trunk, placed, object++, kFirstNamedClass, 1});
+        s.instances.push_back({cloud, glm::translate(placed, Vec3(0, 0, 1.6f)), object++, kFirstNamedClass, 2});
+      } else if (kind == 1) {
+        s.instances.push_back({cloud, glm::translate(placed, Vec3(0, 0, 1.0f)), object++, kFirstNamedClass + 1, 3});
+      } else {
+        s.instances.push_back({patch, placed, object++, kClassGrass, 0});
+      }
+    }
+  return s;
+}
+
+Image render_with(const Scene& scene, int w, int h, int spp, uint64_t seed, int threads = 0,
+                  const TransportFaults& faults = {}) {
+  RenderSettings settings = test_settings(w, h, spp, 16);
+  settings.seed = seed;
+  settings.threads = threads;
+  const EmbreeScene embree(scene, faults);
+  Renderer r(scene, embree, settings, faults);
+  Film film = r.make_film();
+  r.render(film);
+  return r.make_image(film);
+}
+
+struct Agreement {
+  double worst_mean_z = 0;   // the largest |z| of a channel's image-mean difference
+  int rejecting_pixels = 0;  // pixel-channels with |z| above the Sidak threshold
+  int pixel_channels = 0;
+};
+
+// Two independent renders (different seeds) of the same scene: per channel the z-score of the
+// difference of the image means, and per pixel-channel the z-score with the pooled variance of both
+// means (docs/compare.md, as the golden checks).
+Agreement agreement(const Image& a, const Image& b, double pixel_z) {
+  Agreement out;
+  for (const char* channel : {"R", "G", "B", "nir.Y"}) {
+    const int c = a.find_channel(channel), v = a.find_channel(std::string("var.") + channel);
+    EXPECT_GE(c, 0);
+    EXPECT_GE(v, 0);
+    double sum = 0, var = 0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        const double d = static_cast<double>(a.at(x, y, c)) - b.at(x, y, c);
+        const double pooled = static_cast<double>(a.at(x, y, v)) + b.at(x, y, v);
+        sum += d;
+        var += pooled;
+        ++out.pixel_channels;
+        if (pooled > 0 ? std::abs(d) > pixel_z * std::sqrt(pooled) : d != 0) ++out.rejecting_pixels;
+      }
+    out.worst_mean_z = std::max(out.worst_mean_z, var > 0 ? std::abs(sum) / std::sqrt(var) : 0.0);
+  }
+  return out;
+}
+
+// Pixels whose first-hit label `channel` differs.
+int label_mismatches(const Image& a, const Image& b, const char* channel) {
+  const int c = a.find_channel(channel);
+  EXPECT_GE(c, 0);
+  int n = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) n += a.at(x, y, c) != b.at(x, y, c);
+  return n;
+}
+
+constexpr int kW = 96, kH = 54;
+// Sidak threshold for alpha = 0.01 over kW·kH·4 pixel-channels: |z| > 5.0 (two-sided).
+constexpr double kPixelZ = 5.0;
+
+TEST(InstanceArray, AutomaticLevelSwitchesAtTheThreshold) {
+  Scene s;
+  s.prototypes.resize(1);
+  s.instances.resize(kInstanceArrayThreshold - 1);
+  EXPECT_FALSE(uses_instance_array(s));
+  s.instances.resize(kInstanceArrayThreshold);
+  EXPECT_TRUE(uses_instance_array(s));
+  s.instance_level = InstanceLevel::native;
+  EXPECT_FALSE(uses_instance_array(s));
+  s.instances.resize(2);
+  s.instance_level = InstanceLevel::array;
+  EXPECT_TRUE(uses_instance_array(s));
+  // A cyclic plot counts its nine copies of every instance.
+  s.instance_level = InstanceLevel::automatic;
+  s.plot = PlotDesc{true, Vec2(-1.0f), Vec2(1.0f), true};
+  s.instances.resize(kInstanceArrayThreshold / 9 + 1);
+  EXPECT_TRUE(uses_instance_array(s));
+  s.plot.cyclic = false;
+  EXPECT_FALSE(uses_instance_array(s));
+}
+
+// Scaled copies: distances are world distances on both paths. A unit box (base on z = 0) scaled by
+// 3 (x), 2 (y) and 4 (z) with its base at z = 1: a ray from above meets its top at z = 5.
+TEST(InstanceArray, HitDistancesAreWorldDistancesUnderScale) {
+  Scene s;
+  Prototype box;
+  box.triangles = make_box(Vec3(1.0f));
+  s.add_prototype(std::move(box));
+  const Mat4 placed = glm::scale(glm::translate(Mat4(1.0f), Vec3(10.0f, -3.0f, 1.0f)), Vec3(3.0f, 2.0f, 4.0f));
+  s.instances.push_back({0, placed, 1});
+  Bounds3 object;
+  for (const Vec3& p : s.prototypes[0].triangles.positions) object.extend(p);
+  const float top = 1.0f + 4.0f * object.hi.z;
+  for (InstanceLevel level : {InstanceLevel::native, InstanceLevel::array}) {
+    const Scene scene = with_level(s, level);
+    const EmbreeScene embree(scene);
+    EXPECT_EQ(embree.stats().instance_array, level == InstanceLevel::array);
+    RayHit hit;
+    // Straight down onto the top face, and slanted (direction not normalised: t in its units).
+    ASSERT_TRUE(embree.intersect(Ray{Vec3(10.5f, -3.2f, 20.0f), Vec3(0, 0, -1), 100.0f}, &hit));
+    EXPECT_NEAR(hit.t, 20.0f - top, 1e-5f);
+    EXPECT_EQ(hit.instance, 0u);
+    ASSERT_TRUE(embree.intersect(Ray{Vec3(10.0f, -3.0f, 20.0f), Vec3(0.1f, 0.0f, -2.0f), 100.0f}, &hit));
+    EXPECT_NEAR(hit.t, (20.0f - top) / 2.0f, 1e-5f);
+    // Occlusion stops exactly there: free short of the top, blocked beyond it.
+    EXPECT_FALSE(embree.occluded(Vec3(10.5f, -3.2f, 20.0f), Vec3(0, 0, -1), 20.0f - top - 1e-3f));
+    EXPECT_TRUE(embree.occluded(Vec3(10.5f, -3.2f, 20.0f), Vec3(0, 0, -1), 20.0f - top + 1e-3f));
+    // A miss beside the scaled box (it spans x in 10 ± 1.5 times the object half-width).
+    EXPECT_FALSE(
+        embree.intersect(Ray{Vec3(10.0f + 3.0f * object.hi.x + 0.01f, -3.0f, 20.0f), Vec3(0, 0, -1), 100.0f}, &hit));
+    // Bounds of the scene: the scaled box (the array pads them by a few ulps only).
+    EXPECT_NEAR(embree.bounds().hi.z, top, 1e-4f);
+    EXPECT_NEAR(embree.bounds().lo.x, 10.0f + 3.0f * object.lo.x, 1e-4f);
+  }
+}
+
+TEST(InstanceArray, SameImageAsNativeInstances) {
+  const Scene s = stand_scene();
+  const Image native = render_with(with_level(s, InstanceLevel::native), kW, kH, 48, 11);
+  const Image array = render_with(with_level(s, InstanceLevel::array), kW, kH, 48, 12);
+  const Agreement same = agreement(native, array, kPixelZ);
+  std::printf("[instance array] native vs array: worst mean |z| %.2f, %d of %d pixel-channels reject\n",
+              same.worst_mean_z, same.rejecting_pixels, same.pixel_channels);
+  EXPECT_LT(same.worst_mean_z, 4.0);
+  EXPECT_LE(same.rejecting_pixels, same.pixel_channels / 400);  // 0.25 %, as the golden checks
+  // The comparison has the power to see a fault inside the prototypes reached through the array:
+  // shadow rays that ignore the leaf outlines (the golden suite's fault, render/testing/faults.h).
+  TransportFaults faults;
+  faults.no_shadow_alpha = true;
+  const Agreement wrong =
+      agreement(native, render_with(with_level(s, InstanceLevel::array), kW, kH, 48, 12, 0, faults), kPixelZ);
+  std::printf("[instance array] native vs array without shadow alpha: worst mean |z| %.2f, %d pixel-channels reject\n",
+              wrong.worst_mean_z, wrong.rejecting_pixels);
+  EXPECT_TRUE(wrong.worst_mean_z >= 4.0 || wrong.rejecting_pixels > wrong.pixel_channels / 400);
+}
+
+// The first-hit labels and geometry AOVs come from one ray through each pixel centre: the same hit
+// on both paths. Not bit for bit everywhere: Embree inverts a native instance's transform with its
+// own approximate reciprocal, the array per hit with an exact float inverse, so the object-space
+// rays differ in their last bits and a ray grazing an edge within those bits may go either way.
+constexpr int kMaxLabelMismatches = kW * kH / 1000;
+
+void expect_same_labels(const Scene& s, const char* what) {
+  const Image native = render_with(with_level(s, InstanceLevel::native), kW, kH, 1, 5);
+  const Image array = render_with(with_level(s, InstanceLevel::array), kW, kH, 1, 5);
+  for (const char* channel : {"id.instance", "id.object", "id.class", "id.variant"}) {
+    const int n = label_mismatches(native, array, channel);
+    std::printf("[instance array] %s %s: %d of %d pixels differ\n", what, channel, n, kW * kH);
+    EXPECT_LE(n, kMaxLabelMismatches) << what << " " << channel;
+  }
+  // Depth (world units: the array moves the ray without renormalising it) and normals agree where
+  // the same instance was hit.
+  const int id = native.find_channel("id.instance"), z = native.find_channel("Z"), nx = native.find_channel("N.X");
+  int hits = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      if (native.at(x, y, id) != array.at(x, y, id) || native.at(x, y, id) == 0) continue;
+      ++hits;
+      EXPECT_NEAR(native.at(x, y, z), array.at(x, y, z), 1e-4f * native.at(x, y, z)) << what << " " << x << "," << y;
+      EXPECT_NEAR(native.at(x, y, nx), array.at(x, y, nx), 1e-3f) << what << " " << x << "," << y;
+    }
+  EXPECT_GT(hits, kW * kH / 2) << what;
+  // And the labels are not trivial: trees, boxes and grass are all seen.
+  const int cls = native.find_channel("id.class");
+  bool grass = false, tree = false;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      grass = grass || native.at(x, y, cls) == kClassGrass;
+      tree = tree || native.at(x, y, cls) == kFirstNamedClass + 1;
+    }
+  EXPECT_TRUE(grass && tree) << what;
+}
+
+TEST(InstanceArray, SameLabelsAsNativeInstances) { expect_same_labels(stand_scene(), "open"); }
+
+TEST(InstanceArray, SameLabelsInACyclicPlot) {
+  Scene s = stand_scene();
+  s.instances.erase(s.instances.begin());  // no ground plane larger than the period
+  s.plot = PlotDesc{true, Vec2(-5.0f, -2.0f), Vec2(5.0f, 7.0f), true};
+  Prototype floor;
+  floor.triangles = make_plane(10, 9);
+  floor.triangle_material = 0;
+  s.instances.push_back(
+      {s.add_prototype(std::move(floor)), glm::translate(Mat4(1.0f), Vec3(0, 2.5f, 0)), 0, kClassTerrain, 0});
+  expect_same_labels(s, "cyclic");
+}
+
+TEST(InstanceArray, BitIdenticalAtAnyThreadCount) {
+  const Scene s = with_level(stand_scene(), InstanceLevel::array);
+  const Image one = render_with(s, 48, 27, 4, 3, 1);
+  const Image two = render_with(s, 48, 27, 4, 3, 2);
+  const Image four = render_with(s, 48, 27, 4, 3, 4);
+  EXPECT_TRUE(same_bits(one, two));
+  EXPECT_TRUE(same_bits(one, four));
+}
+
+// Memory per instance: Embree's share (its memory monitor: the top BVH and its build) for 10^5
+// copies of a one-triangle prototype stays under kArrayInstanceBytes, the figure the pre-render
+// memory estimate uses (Scene::instances and the per-prototype BVHs are counted apart).
+TEST(InstanceArray, EmbreeBytesPerInstanceBounded) {
+  Scene s;
+  Prototype tri;
+  tri.triangles.positions = {Vec3(0, 0, 0), Vec3(0.1f, 0, 0), Vec3(0, 0.1f, 0.1f)};
+  tri.triangles.triangles = {glm::uvec3(0, 1, 2)};
+  s.add_prototype(std::move(tri));
+  constexpr int kCopies = 100000;
+  s.instances.reserve(kCopies);
+  for (int i = 0; i < kCopies; ++i)
+    s.instances.push_back({0,
+                           glm::rotate(glm::translate(Mat4(1.0f), Vec3(static_cast<float>(i % 316) * 0.5f,
+                                                                       static_cast<float>(i / 316) * 0.5f, 0.0f)),
+                                       0.1f * static_cast<float>(i % 61), Vec3(0, 0, 1)),
+                           static_cast<uint32_t>(i + 1)});
+  const EmbreeScene embree(s);
+  ASSERT_TRUE(embree.stats().instance_array);
+  const double per_instance = static_cast<double>(embree.stats().bvh_bytes) / kCopies;
+  std::printf("[instance array] Embree bytes per instance: %.1f (bound %llu)\n", per_instance,
+              static_cast<unsigned long long>(kArrayInstanceBytes));
+  EXPECT_LE(per_instance, static_cast<double>(kArrayInstanceBytes));
+  EXPECT_GT(per_instance, 8.0);  // the monitor does see the top BVH
+  // Every copy is there: a ray down onto copy 12345's triangle hits it.
+  const Vec3 p = Vec3(s.instances[12345].world_from_object * Vec4(0.02f, 0.02f, 0.0f, 1.0f));
+  RayHit hit;
+  ASSERT_TRUE(embree.intersect(Ray{p + Vec3(0, 0, 5.0f), Vec3(0, 0, -1), 10.0f}, &hit));
+  EXPECT_EQ(hit.instance, 12345u);
+}
+
+// The pre-render memory estimate (docs/limits.md) counts grass curves and the instance level, and
+// covers what Embree reports for a built scene of both.
+TEST(InstanceArray, MemoryEstimateCountsCurvesAndInstances) {
+  const RenderSettings settings = test_settings(8, 8, 1);
+  Scene s;
+  Prototype grass;
+  GrassParams gp;
+  gp.patch_size_m = 4.0f;
+  grass.curves = make_grass_patch(gp, 3);
+  const uint64_t curves = grass.curves.size();
+  s.add_prototype(std::move(grass));
+  const uint64_t empty = estimate_render_memory(s, settings).bvh_bytes;
+  EXPECT_EQ(empty, curves * kBvhBytesPerCurve);
+  for (int i = 0; i < 20000; ++i)
+    s.instances.push_back({0, glm::translate(Mat4(1.0f), Vec3(4.0f * static_cast<float>(i % 150),
+                                                              4.0f * static_cast<float>(i / 150), 0.0f))});
+  const uint64_t array = estimate_render_memory(s, settings).bvh_bytes;
+  EXPECT_EQ(array, empty + 20000 * kArrayInstanceBytes);
+  s.instance_level = InstanceLevel::native;
+  EXPECT_EQ(estimate_render_memory(s, settings).bvh_bytes, empty + 20000 * kNativeInstanceBytes);
+  s.instance_level = InstanceLevel::automatic;
+  const EmbreeScene embree(s);
+  ASSERT_TRUE(embree.stats().instance_array);
+  std::printf("[instance array] estimate %llu bytes, Embree %zu bytes\n", static_cast<unsigned long long>(array),
+              embree.stats().bvh_bytes);
+  EXPECT_GE(array, embree.stats().bvh_bytes);
+}
+
+}  // namespace
+}  // namespace sylva::test
