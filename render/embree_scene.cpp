@@ -200,6 +200,21 @@ void array_bounds(const RTCBoundsFunctionArguments* args) {
   *args->bounds_o = RTCBounds{b.lo.x, b.lo.y, b.lo.z, 0.0f, b.hi.x, b.hi.y, b.hi.z, 0.0f};
 }
 
+// An Embree ray from `o` along `d` over [tnear, tfar], all mask bits set.
+RTCRay rtc_ray(const Vec3& o, const Vec3& d, float tnear, float tfar) {
+  RTCRay r{};
+  r.org_x = o.x;
+  r.org_y = o.y;
+  r.org_z = o.z;
+  r.dir_x = d.x;
+  r.dir_y = d.y;
+  r.dir_z = d.z;
+  r.tnear = tnear;
+  r.tfar = tfar;
+  r.mask = 0xffffffffu;
+  return r;
+}
+
 // Ray `j` of `rays` moved into the object space of array primitive `prim`.
 RTCRay array_object_ray(const InstanceArray& a, unsigned prim, RTCRayN* rays, unsigned n, unsigned j) {
   const Mat4& world_from_object = a.instances[prim % a.count].world_from_object;
@@ -211,15 +226,7 @@ RTCRay array_object_ray(const InstanceArray& a, unsigned prim, RTCRayN* rays, un
   const Vec3 d(RTCRayN_dir_x(rays, n, j), RTCRayN_dir_y(rays, n, j), RTCRayN_dir_z(rays, n, j));
   const Vec3 o_obj = object_from_world * (o - origin);
   const Vec3 d_obj = object_from_world * d;
-  RTCRay r{};
-  r.org_x = o_obj.x;
-  r.org_y = o_obj.y;
-  r.org_z = o_obj.z;
-  r.dir_x = d_obj.x;
-  r.dir_y = d_obj.y;
-  r.dir_z = d_obj.z;
-  r.tnear = RTCRayN_tnear(rays, n, j);
-  r.tfar = RTCRayN_tfar(rays, n, j);
+  RTCRay r = rtc_ray(o_obj, d_obj, RTCRayN_tnear(rays, n, j), RTCRayN_tfar(rays, n, j));
   r.time = RTCRayN_time(rays, n, j);
   r.mask = RTCRayN_mask(rays, n, j);
   return r;
@@ -684,15 +691,7 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh{};
-  rh.ray.org_x = ray.origin.x;
-  rh.ray.org_y = ray.origin.y;
-  rh.ray.org_z = ray.origin.z;
-  rh.ray.dir_x = ray.direction.x;
-  rh.ray.dir_y = ray.direction.y;
-  rh.ray.dir_z = ray.direction.z;
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = ray.t_max;
-  rh.ray.mask = 0xffffffffu;
+  rh.ray = rtc_ray(ray.origin, ray.direction, 0.0f, ray.t_max);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->top, &context, &rh);
@@ -724,16 +723,7 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
 bool EmbreeScene::occluded_cell(const Vec3& origin, const Vec3& direction, float t_max) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray{};
-  ray.org_x = origin.x;
-  ray.org_y = origin.y;
-  ray.org_z = origin.z;
-  ray.dir_x = direction.x;
-  ray.dir_y = direction.y;
-  ray.dir_z = direction.z;
-  ray.tnear = 0.0f;
-  ray.tfar = t_max;
-  ray.mask = 0xffffffffu;
+  RTCRay ray = rtc_ray(origin, direction, 0.0f, t_max);
   rtcOccluded1(impl_->top, &context, &ray);
   return ray.tfar < 0.0f;
 }
