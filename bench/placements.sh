@@ -28,11 +28,9 @@ trap 'rm -rf "$WORK"' EXIT
 
 echo "| placement | trees | scene load s | BVH build s | wall s (first pixel) | CPU s | peak RSS MiB | B/tree | load avg |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
-for N in $COUNTS; do
-  if [ "$PLACEMENT" = map ]; then
-    # About 0.7 of the area carries one of the two species at 300 trees/ha: 210 trees/ha.
-    side=$(awk -v n="$N" 'BEGIN { printf "%.0f", sqrt(n / 210.0 * 10000.0) }')
-    cat > "$WORK/scene.toml" <<TOML
+# The render settings, camera and materials both placements share.
+common_scene() {
+  cat <<TOML
 [render]
 width = 32
 height = 18
@@ -50,6 +48,15 @@ reflectance = 0.3
 type = "leaf"
 reflectance = 0.45
 transmittance = 0.4
+TOML
+}
+
+for N in $COUNTS; do
+  if [ "$PLACEMENT" = map ]; then
+    # About 0.7 of the area carries one of the two species at 300 trees/ha: 210 trees/ha.
+    side=$(awk -v n="$N" 'BEGIN { printf "%.0f", sqrt(n / 210.0 * 10000.0) }')
+    common_scene > "$WORK/scene.toml"
+    cat >> "$WORK/scene.toml" <<TOML
 [terrain]
 size = [$side, $side]
 resolution = $(awk -v s="$side" 'BEGIN { print s / 256.0 }')
@@ -99,24 +106,8 @@ with open(path, "w") as f:
         f.write(f"{(u - 0.5) * side:.2f},{(v - 0.5) * side:.2f},{species[i % 2]},{1 + (i // 2) % 10},"
                 f"{0.8 + 0.4 * u:.3f},{360 * v:.1f}\n")
 PY
-  cat > "$WORK/scene.toml" <<TOML
-[render]
-width = 32
-height = 18
-spp = 1
-bands = ["rgb"]
-instancing = "$INSTANCING"
-[camera]
-position = [0.0, -60.0, 30.0]
-target = [0.0, 0.0, 0.0]
-[materials.soil]
-reflectance = 0.2
-[materials.bark]
-reflectance = 0.3
-[materials.leaf]
-type = "leaf"
-reflectance = 0.45
-transmittance = 0.4
+  common_scene > "$WORK/scene.toml"
+  cat >> "$WORK/scene.toml" <<TOML
 [[meshes]]
 shape = "plane"
 size = [1e6, 1e6]
