@@ -14,11 +14,14 @@ namespace sylva {
 // Cubic Bézier ribbons: curve k has control points 4k … 4k+3, each (x, y, z, half-width), and a
 // unit normal per control point; the ribbon spans ±half-width along cross(tangent, normal).
 // With `round`, the curves are round tubes of radius w instead (Embree round Bézier curves: stems
-// drawn as lines at range, geometry/trees/lod.h) and `normals` is empty.
+// drawn as lines at range, geometry/trees/lod.h) and `normals` is empty. Ribbons are traced as
+// triangle strips (tessellate_ribbons) unless `exact`: then as Embree's normal-oriented Bézier
+// curves, the exact ribbon at several times the cost ([[grass]] trace = "curves").
 struct CurveSet {
   std::vector<Vec4> points;
   std::vector<Vec3> normals;
   bool round = false;
+  bool exact = false;
 
   size_t size() const { return points.size() / 4; }
 };

@@ -86,7 +86,7 @@ void solid_occluded(const RTCOccludedFunctionNArguments* args) {
   }
 }
 
-// Round curves (stems drawn as lines at range): a ray leaving a tube (offset along the normal by a
+// Embree curves (round lines at range, exact grass ribbons): a ray leaving one (offset along the normal by a
 // few ulps) can re-hit it at t ≈ 0, since Embree's curve intersection is approximate at that scale;
 // hits closer than this are rejected in both the intersection and the occlusion filter. 0.1 mm is
 // below a line's width and above the re-hit distances (µm).
@@ -291,7 +291,7 @@ struct EmbreeScene::Impl {
   std::vector<unsigned> leaf_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<unsigned> solid_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<unsigned> curve_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
-  std::vector<uint8_t> curves_round;    // per prototype: its curves are Embree curves, not strips
+  std::vector<uint8_t> embree_curves;   // per prototype: its curves are Embree curves, not strips
   std::vector<unsigned> disc_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
   // The instance array (uses_instance_array): per prototype its object-space bounds; `array` points
@@ -409,15 +409,23 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
         throw Error(
             fmt::format("prototype '{}': curves need 4 control points each and, unless round, 4 normals", proto.name));
       RTCGeometry g;
-      if (cs.round) {
-        // Round curves (stems drawn as lines, geometry/trees/lod.h) are Embree's round Bézier tubes.
-        g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE);
+      if (cs.round || cs.exact) {
+        // Round curves (stems drawn as lines, geometry/trees/lod.h) are Embree's round Bézier tubes;
+        // exact ribbons its normal-oriented Bézier curves.
+        g = rtcNewGeometry(
+            device, cs.round ? RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE : RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE);
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                                               4 * sizeof(float), cs.points.size()));
         auto* idx = static_cast<unsigned*>(
             rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), cs.size()));
         for (size_t i = 0; i < cs.points.size(); ++i)
           for (int k = 0; k < 4; ++k) v[4 * i + k] = cs.points[i][k];
+        if (!cs.round) {
+          auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
+                                                                3 * sizeof(float), cs.normals.size()));
+          for (size_t i = 0; i < cs.normals.size(); ++i)
+            for (int k = 0; k < 3; ++k) n[3 * i + k] = cs.normals[i][k];
+        }
         for (size_t i = 0; i < cs.size(); ++i) idx[i] = static_cast<unsigned>(4 * i);
         rtcSetGeometryIntersectFilterFunction(g, curve_near_filter);
         rtcSetGeometryOccludedFilterFunction(g, curve_near_filter);
@@ -468,7 +476,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     impl_->leaf_geom_id.push_back(leaf_id);
     impl_->solid_geom_id.push_back(solid_id);
     impl_->curve_geom_id.push_back(curve_id);
-    impl_->curves_round.push_back(cs.round ? 1 : 0);
+    impl_->embree_curves.push_back(cs.round || cs.exact ? 1 : 0);
     impl_->disc_geom_id.push_back(disc_id);
   }
 
@@ -715,7 +723,7 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
   hit->curve = rh.hit.geomID == impl_->curve_geom_id[proto];
   hit->disc = rh.hit.geomID == impl_->disc_geom_id[proto];
-  if (hit->curve && !impl_->curves_round[proto]) hit->primitive = rh.hit.primID / (2 * kRibbonSegments);
+  if (hit->curve && !impl_->embree_curves[proto]) hit->primitive = rh.hit.primID / (2 * kRibbonSegments);
   if (hit->solid || hit->curve) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }

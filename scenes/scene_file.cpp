@@ -1205,7 +1205,7 @@ class SceneParser {
     for (const Params* t : tables) {
       if (grass_.size() == kFeatureGrassTypes)
         t->fail("at most 3 [[grass]] types (a feature map's 2 grass bits choose one of 3)");
-      t->check_keys({"name", "material", "density", "length", "width", "bend", "patch_size", "seed"});
+      t->check_keys({"name", "material", "density", "length", "width", "bend", "patch_size", "seed", "trace"});
       GrassParams g;
       g.density_per_m2 = t->real("density", g.density_per_m2, 0.0, 1e5);
       g.length_m = range(*t, "length", g.length_m, 1e-3, 10.0);
@@ -1220,6 +1220,9 @@ class SceneParser {
       } catch (const Error& e) {
         t->fail("density", e.what());
       }
+      const std::string trace = t->string("trace", "strips");
+      if (trace != "strips" && trace != "curves") t->fail("trace", "trace must be \"strips\" or \"curves\"");
+      p.curves.exact = trace == "curves";
       grass_.push_back({out_.scene.add_prototype(std::move(p)), g.patch_size_m});
     }
   }
