@@ -3,6 +3,7 @@
 // built-in default forest rendered through native Embree instances and through the instance array
 // (Scene::instance_level; bench/README.md "Placed trees at scale").
 
+#include "bench/bench_support.h"
 #include "render/renderer.h"
 #include "scenes/placement_list.h"
 #include "scenes/scene_file.h"
@@ -48,25 +49,7 @@ void bm_render_instance_level(benchmark::State& state, InstanceLevel level) {
   Scene scene = file.scene;
   scene.instance_level = level;
   const EmbreeScene embree(scene);
-  RenderSettings settings = render_settings(file);
-  settings.width = 320;
-  settings.height = 180;
-  settings.spp = 1;
-  settings.seed = 1;
-  settings.threads = 1;
-  settings.progress = false;
-  Renderer renderer(scene, embree, settings);
-  uint64_t samples = 0, rays = 0;
-  for (auto _ : state) {
-    Film film = renderer.make_film();
-    const RenderStats stats = renderer.render(film);
-    state.SetIterationTime(stats.seconds);
-    samples += stats.samples;
-    rays += stats.rays;
-    benchmark::DoNotOptimize(film);
-  }
-  state.counters["samples/s"] = benchmark::Counter(static_cast<double>(samples), benchmark::Counter::kIsRate);
-  state.counters["rays/s"] = benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsRate);
+  time_render_passes(state, scene, embree, bench_settings(file, 1));
 }
 BENCHMARK_CAPTURE(bm_render_instance_level, native, InstanceLevel::native)
     ->Unit(benchmark::kMillisecond)

@@ -3,6 +3,7 @@
 // threads, plus the BVH build time. Every case renders a fresh film at a fixed resolution, spp and
 // seed, so the work per iteration is identical from run to run (see bench/README.md).
 
+#include "bench/bench_support.h"
 #include "render/renderer.h"
 #include "scenes/scene_file.h"
 
@@ -23,36 +24,12 @@ const SceneFile& bench_scene(BenchScene which) {
   return which == BenchScene::kDefault ? default_file : dense_file;
 }
 
-// The scene file's settings (bands, depth) at the benchmark's fixed resolution, spp and seed.
-RenderSettings bench_settings(const SceneFile& file, int threads) {
-  RenderSettings s = render_settings(file);
-  s.width = 320;
-  s.height = 180;
-  s.spp = 1;
-  s.seed = 1;
-  s.threads = threads;
-  s.progress = false;
-  return s;
-}
-
 // One iteration = one 1-spp pass over a 320×180 film. Timed with the renderer's own clock
 // (RenderStats::seconds: the tile loop only, not film allocation).
 void bm_render(benchmark::State& state, BenchScene which, int threads) {
   const SceneFile& file = bench_scene(which);
   const EmbreeScene embree(file.scene);
-  Renderer renderer(file.scene, embree, bench_settings(file, threads));
-  uint64_t samples = 0, rays = 0;
-  for (auto _ : state) {
-    Film film = renderer.make_film();
-    const RenderStats stats = renderer.render(film);
-    state.SetIterationTime(stats.seconds);
-    samples += stats.samples;
-    rays += stats.rays;
-    benchmark::DoNotOptimize(film);
-  }
-  state.counters["samples/s"] = benchmark::Counter(static_cast<double>(samples), benchmark::Counter::kIsRate);
-  state.counters["rays/s"] = benchmark::Counter(static_cast<double>(rays), benchmark::Counter::kIsRate);
-  state.counters["rays/sample"] = static_cast<double>(rays) / static_cast<double>(std::max<uint64_t>(samples, 1));
+  time_render_passes(state, file.scene, embree, bench_settings(file, threads));
 }
 
 // Embree BVH build of every prototype plus the instance-level scene (built once per scene and
