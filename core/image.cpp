@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -70,11 +71,33 @@ void check_image_header(const std::filesystem::path& path, const ImageHeaderSize
                             static_cast<double>(available) / double(uint64_t{1} << 30)));
 }
 
+// The attributes every EXR header must have (OpenEXR file layout, "Header Attributes"), with their
+// type and, where fixed, their size in bytes (-1: any); a tiled file (version flag 0x200) also needs
+// `tiles`.
+struct RequiredExrAttribute {
+  std::string_view name, type;
+  int64_t size;
+};
+constexpr std::array<RequiredExrAttribute, 9> kRequiredExrAttributes{{
+    {"channels", "chlist", -1},
+    {"compression", "compression", 1},
+    {"dataWindow", "box2i", 16},
+    {"displayWindow", "box2i", 16},
+    {"lineOrder", "lineOrder", 1},
+    {"pixelAspectRatio", "float", 4},
+    {"screenWindowCenter", "v2f", 8},
+    {"screenWindowWidth", "float", 4},
+    {"tiles", "tiledesc", 9},
+}};
+constexpr uint32_t kExrTiledFlag = 0x200;
+
 // OpenEXR allocates from its header's windows while opening a file (the line-offset table), before
-// OpenImageIO reports a spec, so the header of an EXR is read and checked first. Walks the
-// attributes of the first part (OpenEXR file layout: magic, version, then name\0 type\0 size value
-// until an empty name) for dataWindow, displayWindow (box2i) and channels (chlist). A header that
-// ends early is left to OpenEXR to report.
+// OpenImageIO reports a spec, and spends seconds and gigabytes on a header without a data window,
+// so the header of an EXR is read and checked first. Walks the attributes of the first part
+// (OpenEXR file layout: magic, version, then name\0 type\0 size value until an empty name): every
+// required attribute must be there with its type and size, and dataWindow, displayWindow (box2i)
+// and channels (chlist) must be within the limits. A file that ends inside its header is refused;
+// a header longer than the 64 KiB read here is left to OpenEXR past that point.
 void check_exr_header(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string head(size_t{1} << 16, '\0');
@@ -82,6 +105,7 @@ void check_exr_header(const std::filesystem::path& path) {
   head.resize(static_cast<size_t>(in.gcount()));
   if (head.size() < 8 || head.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
   const uint64_t file_bytes = std::filesystem::file_size(path);
+  const bool whole_file = head.size() == file_bytes;
   const auto int32_at = [&](size_t at) {
     int32_t v = 0;
     std::memcpy(&v, head.data() + at, sizeof v);
@@ -90,14 +114,21 @@ void check_exr_header(const std::filesystem::path& path) {
   const auto box_sides = [&](size_t at) {
     return std::pair{int32_at(at + 8) - int32_at(at) + 1, int32_at(at + 12) - int32_at(at + 4) + 1};
   };
+  const auto truncated = [&] {
+    return Error(fmt::format("{}: the file ends inside its EXR header (truncated)", path.string()));
+  };
   std::pair<int64_t, int64_t> data{0, 0}, display{0, 0};
   int64_t channels = 0;
   uint64_t pixel_bytes = 0;
+  std::array<bool, kRequiredExrAttributes.size()> present{};
   size_t at = 8;
   while (at < head.size() && head[at] != '\0') {
     const size_t name_end = head.find('\0', at);
     const size_t type_end = name_end == std::string::npos ? name_end : head.find('\0', name_end + 1);
-    if (type_end == std::string::npos || type_end + 5 > head.size()) return;
+    if (type_end == std::string::npos || type_end + 5 > head.size()) {
+      if (whole_file) throw truncated();
+      return;
+    }
     const std::string name = head.substr(at, name_end - at);
     const std::string type = head.substr(name_end + 1, type_end - name_end - 1);
     const int64_t size = int32_at(type_end + 1);
@@ -106,9 +137,17 @@ void check_exr_header(const std::filesystem::path& path) {
       throw Error(fmt::format("{}: header attribute '{}' claims {} bytes, more than the file holds", path.string(),
                               name, size));
     if (value + static_cast<uint64_t>(size) > head.size()) return;
-    if (type == "box2i" && size == 16 && name == "dataWindow") data = box_sides(value);
-    if (type == "box2i" && size == 16 && name == "displayWindow") display = box_sides(value);
-    if (type == "chlist") {
+    for (size_t r = 0; r < kRequiredExrAttributes.size(); ++r) {
+      const RequiredExrAttribute& required = kRequiredExrAttributes[r];
+      if (name != required.name) continue;
+      if (type != required.type || (required.size >= 0 && size != required.size))
+        throw Error(fmt::format("{}: header attribute '{}' is a {} of {} bytes, expected a {}", path.string(), name,
+                                type, size, required.type));
+      present[r] = true;
+    }
+    if (name == "dataWindow") data = box_sides(value);
+    if (name == "displayWindow") display = box_sides(value);
+    if (name == "channels") {
       // name\0, pixel type (0 uint, 1 half, 2 float), pLinear, 3 reserved, x and y sampling.
       for (size_t c = value; c < value + static_cast<size_t>(size) && head[c] != '\0';) {
         const size_t channel_end = head.find('\0', c);
@@ -120,6 +159,18 @@ void check_exr_header(const std::filesystem::path& path) {
     }
     at = value + static_cast<size_t>(size);
   }
+  if (at >= head.size()) {
+    if (whole_file) throw truncated();
+    return;
+  }
+  const bool tiled = (static_cast<uint32_t>(int32_at(4)) & kExrTiledFlag) != 0;
+  std::string missing;
+  for (size_t r = 0; r < kRequiredExrAttributes.size(); ++r) {
+    const std::string_view name = kRequiredExrAttributes[r].name;
+    if (!present[r] && (name != "tiles" || tiled)) missing += fmt::format("{}'{}'", missing.empty() ? "" : ", ", name);
+  }
+  if (!missing.empty())
+    throw Error(fmt::format("{}: the EXR header lacks the required attribute(s) {}", path.string(), missing));
   check_image_header(path,
                      ImageHeaderSizes{display.first, display.second, data.first, data.second, channels, pixel_bytes});
 }
