@@ -20,8 +20,8 @@ class Placements : public test::TempDirTest {
  protected:
   void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
 
-  std::string scene(const std::string& list_key) const {
-    return R"(
+  // The bark and leaf materials and the start of a [[placements]] table, shared by every scene here.
+  static constexpr const char* kHeader = R"(
 [materials.bark]
 reflectance = 0.3
 [materials.leaf]
@@ -29,7 +29,10 @@ type = "leaf"
 reflectance = 0.4
 transmittance = 0.3
 [[placements]]
-)" + list_key +
+)";
+
+  std::string scene(const std::string& list_key) const {
+    return kHeader + list_key +
            R"(
 [placements.species.aspen]
 species = ")" +
@@ -156,15 +159,7 @@ TEST_F(Placements, BadRowsAreFileLineErrors) {
 TEST_F(Placements, SpeciesFileErrorsNameTheSpeciesFile) {
   write("broken.toml", "model = \"weber-penn\"\nShape = 3\nLevels = banana\n");
   write("trees.csv", "x,y,species,seed,scale,heading\n0,0,bad,1,1,0\n");
-  const std::string text = R"(
-[materials.bark]
-reflectance = 0.3
-[materials.leaf]
-type = "leaf"
-reflectance = 0.4
-transmittance = 0.3
-[[placements]]
-file = "trees.csv"
+  const std::string text = std::string(kHeader) + R"(file = "trees.csv"
 [placements.species.bad]
 species = "broken.toml"
 bark = "bark"
