@@ -17,7 +17,8 @@ CurveSet make_grass_patch(const GrassParams& params, uint64_t seed) {
   c.normals.reserve(4 * count);
   for (size_t i = 0; i < count; ++i) {
     Pcg32 rng(hash_ids(seed, i));
-    const Vec3 base(params.patch_size_m * (rng.uniform() - 0.5f), params.patch_size_m * (rng.uniform() - 0.5f), 0.0f);
+    const Vec2 u = uniform2(rng);
+    const Vec3 base(params.patch_size_m * (u.x - 0.5f), params.patch_size_m * (u.y - 0.5f), 0.0f);
     const float heading = kTwoPi * rng.uniform();
     const float length = rng.uniform(params.length_m.x, params.length_m.y);
     // Bend: the tip falls towards `facing` by up to 90° (bend = 1), varied ±30 % per blade.

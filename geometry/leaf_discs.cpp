@@ -124,8 +124,8 @@ LeafDiscs make_homogeneous_layer(Vec2 lo, Vec2 hi, float height, float lai, floa
   Pcg32 rng(seed, 0x6c65616664697363ull);
   LeafDiscs out;
   for (size_t i = 0; i < n; ++i) {
-    const Vec3 c(lo.x + (hi.x - lo.x) * rng.uniform(), lo.y + (hi.y - lo.y) * rng.uniform(),
-                 radius + (height - 2 * radius) * rng.uniform());
+    const Vec3 u = uniform3(rng);
+    const Vec3 c(lo.x + (hi.x - lo.x) * u.x, lo.y + (hi.y - lo.y) * u.y, radius + (height - 2 * radius) * u.z);
     out.add(c, radius, sample_leaf_normal(angles, rng));
   }
   return out;
@@ -142,7 +142,7 @@ LeafDiscs make_leaf_sphere(float sphere_radius, float lai, float radius, LeafAng
   for (size_t i = 0; i < n; ++i) {
     Vec3 c;
     do {
-      c = Vec3(2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1);
+      c = symmetric3(rng);
     } while (glm::dot(c, c) > 1.0f);
     out.add(sphere_radius * c, radius, sample_leaf_normal(angles, rng));
   }

@@ -82,8 +82,9 @@ std::vector<PlacedPatch> place_grass_patches(const FeatureMap& map, const Height
     tbb::parallel_for(int64_t{0}, ny, [&](int64_t cy) {
       for (int64_t cx = 0; cx < nx; ++cx) {
         Pcg32 rng(hash_ids(seed, 0x6A55, t, cx, cy));
-        const Vec2 centre = map.min_m + cell * Vec2(static_cast<float>(cx) + 0.5f + 0.25f * rng.symmetric(),
-                                                    static_cast<float>(cy) + 0.5f + 0.25f * rng.symmetric());
+        const Vec2 jitter = symmetric2(rng);
+        const Vec2 centre = map.min_m + cell * Vec2(static_cast<float>(cx) + 0.5f + 0.25f * jitter.x,
+                                                    static_cast<float>(cy) + 0.5f + 0.25f * jitter.y);
         const float heading = kTwoPi * rng.uniform();
         if (centre.x >= map.max_m.x || centre.y >= map.max_m.y || grass_type(map.at(centre)) != static_cast<int>(t) + 1)
           continue;

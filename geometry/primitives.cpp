@@ -125,10 +125,10 @@ LeafQuads make_leaf_cloud(const LeafCloudParams& params, uint64_t seed) {
     Pcg32 rng(hash_ids(seed, static_cast<uint64_t>(i)));
     Vec3 c;
     do {
-      c = Vec3(rng.symmetric(), rng.symmetric(), rng.symmetric());
+      c = symmetric3(rng);
     } while (glm::dot(c, c) > 1.0f);
     c *= params.radii;
-    const Vec3 normal = sample_uniform_sphere(Vec2(rng.uniform(), rng.uniform()));
+    const Vec3 normal = sample_uniform_sphere(uniform2(rng));
     const Frame f = Frame::from_z(normal);
     const float spin = kTwoPi * rng.uniform();
     const Vec3 along = std::cos(spin) * f.x + std::sin(spin) * f.y;  // petiole → tip

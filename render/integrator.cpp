@@ -195,7 +195,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
         if (depth + 1 > settings_.max_depth) break;
         const Vec3 p = ray.origin + s * ray.direction;
         const float g = haze_.desc().g;
-        const Vec2 u_light(rng.uniform(), rng.uniform());
+        const Vec2 u_light = uniform2(rng);
         const float u_select = rng.uniform();
         if (!environment_.empty()) {
           const LightSample ls = environment_.sample(u_light, u_select, wl);
@@ -206,7 +206,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
             L += beta * ls.radiance * sky_transmittance(p, ls.wi, wl, rays) * (phase * w / ls.pdf);
           }
         }
-        const Vec3 wi = sample_henyey_greenstein(ray.direction, g, Vec2(rng.uniform(), rng.uniform()));
+        const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
         prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
         ray = Ray{p, wi};
         if (depth + 1 >= settings_.rr_start_depth) {
@@ -225,7 +225,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
         const Vec3 p = ray.origin + s * ray.direction;
         const Bsdf leaf(scene_.materials[medium_material], wl, true);
         const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
-        const Vec2 u_light(rng.uniform(), rng.uniform());
+        const Vec2 u_light = uniform2(rng);
         const float u_select = rng.uniform();
         if (!environment_.empty()) {
           const LightSample ls = environment_.sample(u_light, u_select, wl);
@@ -240,7 +240,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
             }
           }
         }
-        const Vec2 u_normal(rng.uniform(), rng.uniform()), u_direction(rng.uniform(), rng.uniform());
+        const Vec2 u_normal = uniform2(rng), u_direction = uniform2(rng);
         const float u_lobe = rng.uniform();
         LeafPhaseSample ps;
         if (!sample_leaf_phase(phase, ray.direction, u_normal, u_direction, u_lobe, &ps)) break;
@@ -294,7 +294,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
     const Vec3 wo_local = frame.to_local(wo);
 
     // Next-event estimation towards the sun + sky mixture.
-    const Vec2 u_light(rng.uniform(), rng.uniform());
+    const Vec2 u_light = uniform2(rng);
     const float u_select = rng.uniform();
     if (!environment_.empty()) {
       const LightSample ls = environment_.sample(u_light, u_select, wl);
@@ -320,7 +320,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
     }
 
     // Continue the path by sampling the BSDF.
-    const Vec2 u_bsdf(rng.uniform(), rng.uniform());
+    const Vec2 u_bsdf = uniform2(rng);
     const float u_lobe = rng.uniform();
     BsdfSample bs;
     if (!bsdf.sample(wo_local, u_bsdf, u_lobe, &bs)) break;

@@ -112,8 +112,8 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
       static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
   for (uint32_t s = first_sample; s < end_sample; ++s) {
     Pcg32 rng(hash_ids(settings_.seed, pixel_id, s));
-    const Vec2 film_pos(static_cast<float>(x) + rng.uniform(), static_cast<float>(y) + rng.uniform());
-    const Vec2 lens(rng.uniform(), rng.uniform());
+    const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + uniform2(rng);
+    const Vec2 lens = uniform2(rng);
     const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
     FirstHit first;
     SampledSpectrum L = integrator_->radiance(camera_.generate_ray(film_pos, lens), wl, rng, &first, rays);

@@ -59,8 +59,8 @@ void check_plot(const Scene& scene, const MeasureSettings& settings) {
 }
 
 Vec3 plot_point(const PlotDesc& plot, float top, Pcg32& rng) {
-  return Vec3(plot.lo.x + (plot.hi.x - plot.lo.x) * rng.uniform(), plot.lo.y + (plot.hi.y - plot.lo.y) * rng.uniform(),
-              top);
+  const Vec2 u = uniform2(rng);
+  return Vec3(plot.lo.x + (plot.hi.x - plot.lo.x) * u.x, plot.lo.y + (plot.hi.y - plot.lo.y) * u.y, top);
 }
 
 template <class Body>
@@ -171,7 +171,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
       Pcg32 rng(hash_ids(settings.seed, 0x666c7578u, static_cast<uint64_t>(s)));
       const Vec3 p = plot_point(scene.plot, top, rng);
       const SampledWavelengths wl = wavelengths.sample(rng.uniform());
-      const Vec2 u_light(rng.uniform(), rng.uniform());
+      const Vec2 u_light = uniform2(rng);
       const LightSample ls = environment.sample(u_light, rng.uniform(), wl);
       // The energy this path carries onto the plot's top plane: L cos θ / pdf per wavelength.
       SampledSpectrum incident(0.0f);
@@ -200,7 +200,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
         }
         x[where] += beta * (SampledSpectrum(1.0f) - bsdf.albedo());
         BsdfSample bs;
-        const Vec2 u_bsdf(rng.uniform(), rng.uniform());
+        const Vec2 u_bsdf = uniform2(rng);
         if (!bsdf.sample(frame.to_local(wo), u_bsdf, rng.uniform(), &bs)) break;
         const Vec3 wi = frame.to_world(bs.wi);
         const float cos_g = glm::dot(wi, ng);

@@ -340,8 +340,8 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
     const Vec3 tip = tree.base[i] + tree.direction[i] * tree.length_m[i];
     const float tip_radius = tree.tip_radius(i, params);
     Pcg32 rng(hash_ids(tree.seed, static_cast<uint64_t>(i), 0x5eedu));
-    const Vec3 ahead =
-        turn_from(tree.direction[i], radians(params.apical_var_deg) * rng.uniform(), kTwoPi * rng.uniform());
+    const Vec2 u = uniform2(rng);
+    const Vec3 ahead = turn_from(tree.direction[i], radians(params.apical_var_deg) * u.x, kTwoPi * u.y);
     tree.apex[i] = static_cast<int32_t>(tree.size());
     add_limb(tree, static_cast<int32_t>(i), tree.order[i], tip, ahead, params.bud_length_m,
              std::min(params.bud_radius_m, tip_radius));

@@ -231,14 +231,14 @@ class AspenGrower {
   void add_leaf_cluster(const Vec3& tip, const Vec3& dir, int stem, Pcg32& rng) {
     const float u = p_.unit_m;
     for (int i = 0; i < p_.leaves_per_cluster; ++i) {
-      Vec3 offset(rng.symmetric(), rng.symmetric(), rng.symmetric());
+      Vec3 offset = symmetric3(rng);
       offset *= p_.cluster_radius_m;
       const Vec3 pos = tip * u + offset;
-      Vec3 out = dir + Vec3(rng.symmetric(), rng.symmetric(), rng.symmetric()) * 1.2f;
+      Vec3 out = dir + symmetric3(rng) * 1.2f;
       out.z -= 0.3f;  // aspen leaves hang on long flattened petioles
       if (glm::length(out) < 1e-3f) out = dir;
       const Vec3 z = glm::normalize(out);
-      const Vec3 y = across(z, kUp + Vec3(rng.symmetric(), rng.symmetric(), 0.0f) * 0.5f);
+      const Vec3 y = across(z, kUp + Vec3(symmetric2(rng), 0.0f) * 0.5f);
       m_.leaves.positions.push_back(pos);
       m_.leaves.frames.push_back(Frame{glm::cross(y, z), y, z});
       const float size = rng.uniform(0.8f, 1.2f);
