@@ -213,16 +213,22 @@ Outcome grow_and_measure(HartBakerParams p, uint64_t seed, int years) {
   return o;
 }
 
+// Fig. 1's trees are bushy: a genotype whose lateral buds nearly all break (bud_break 0.95), so
+// the genetic crown shades its own inside, grown 20 years. Four light directions a year (§4.1
+// allows several; the paper draws one): with one, a limb's lit fraction is a single direction's
+// verdict, smoothed over two years, and shedding kills limbs lit from most of the sky.
 TEST(HartBakerGrowth, Figure1BalanceAndPhototropism) {
   HartBakerParams genetic = small_species();
+  genetic.bud_break = 0.95f;
+  genetic.light.samples = 4;
   genetic.balance = false;
   genetic.phototropism = false;
   HartBakerParams balanced = genetic;
   balanced.balance = true;
   HartBakerParams phototropic = balanced;
   phototropic.phototropism = true;
-  const int years = 12;
-  constexpr int kSeeds = 6;
+  const int years = 20;
+  constexpr int kSeeds = 4;
   Outcome g, b, l;
   double light_per_branch = 0.0;  // mean over seeds of (light ratio / branch ratio)
   int sheds_more_than_it_loses = 0;
@@ -242,7 +248,7 @@ TEST(HartBakerGrowth, Figure1BalanceAndPhototropism) {
                 static_cast<int>(seed), og.light, ol.light, og.branches, ol.branches, og.mass_kg, ol.mass_kg);
     const double per_branch = (ol.light / og.light) / (ol.branches / og.branches);
     light_per_branch += per_branch / kSeeds;
-    sheds_more_than_it_loses += per_branch > 1.0;
+    sheds_more_than_it_loses += per_branch > 1.5;
   }
   RecordProperty("com_offset_genetic_m", std::to_string(g.com_offset_m));
   RecordProperty("com_offset_balanced_m", std::to_string(b.com_offset_m));
@@ -254,17 +260,16 @@ TEST(HartBakerGrowth, Figure1BalanceAndPhototropism) {
       "light %.3f, branches %.3f, mass %.3f, light per branch %.3f\n",
       g.com_offset_m, b.com_offset_m, l.com_offset_m, l.light / g.light, l.branches / g.branches, l.mass_kg / g.mass_kg,
       light_per_branch);
-  // The balanced tree stands over its trunk: measured 0.34× the genetic tree's offset (seeds 1–8).
+  // The balanced tree stands over its trunk: measured 0.20× the genetic tree's offset (seeds 1–6).
   EXPECT_LT(b.com_offset_m, 0.5 * g.com_offset_m);
-  // Phototropism: shedding removes far more branches than light, in every seed (light per branch
-  // 1.1–1.5 per seed). The paper's "about the same light with ~25 % of the branches and mass" is
-  // NOT reproduced (measured: light ≈ 0.66, branches ≈ 0.5, mass ≈ 0.7; docs/hart_baker.md
-  // "Figure 1" gives the figures and what was tried), so these bounds hold what the model does,
-  // with a margin of about two standard errors of the six-seed means (per-seed light ratios
-  // spread 0.5–0.83).
-  EXPECT_GT(l.light, 0.5 * g.light);
-  EXPECT_LT(l.branches, 0.75 * g.branches);
-  EXPECT_GT(light_per_branch, 1.1);
+  // Phototropism (Fig. 1c): measured over seeds 1–6, the phototropic tree keeps 0.86 of the genetic
+  // tree's light (0.81–0.90 per seed) with 0.33 of its branches (0.29–0.36) — the paper's "about
+  // the same light with ~25 % of the branches" — and 0.69 of its mass (the paper: ~25 %; ours
+  // grows from its light, docs/hart_baker.md "Figure 1"). Bounds about three standard errors of
+  // the four-seed means away.
+  EXPECT_GT(l.light, 0.75 * g.light);
+  EXPECT_LT(l.branches, 0.45 * g.branches);
+  EXPECT_GT(light_per_branch, 2.0);
   EXPECT_EQ(sheds_more_than_it_loses, kSeeds);
 }
 
