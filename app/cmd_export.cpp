@@ -125,10 +125,11 @@ TriangleMesh flatten_scene(const Scene& scene) {
 int run_export(const ExportOptions& opt) {
   if (opt.obj.empty()) throw Error("no output: give --obj OUT.obj");
   check_outputs({{"--obj", opt.obj}}, {opt.scene});
-  const SceneFile file = opt.scene.empty() ? default_scene() : load_scene_file(opt.scene);
+  SceneOptions scene_options;
+  if (!opt.res.empty()) scene_options.resolution = parse_resolution(opt.res);
+  const SceneFile file = opt.scene.empty() ? default_scene(scene_options) : load_scene_file(opt.scene, scene_options);
   check_outputs({{"--obj", opt.obj}}, file.inputs);
-  int width = file.render.width, height = file.render.height;
-  if (!opt.res.empty()) std::tie(width, height) = parse_resolution(opt.res);
+  const int width = file.render.width, height = file.render.height;
   const Scene& scene = file.scene;
   const TriangleMesh world = flatten_scene(scene);
   write_obj(opt.obj, world);

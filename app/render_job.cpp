@@ -79,12 +79,12 @@ std::pair<int, int> parse_resolution(const std::string& text) {
 RenderJob prepare_render(const RenderRequest& request) {
   SceneOptions scene_options;
   scene_options.time_s = request.time_s;
+  if (!request.res.empty()) scene_options.resolution = parse_resolution(request.res);
   RenderJob job{request.scene.empty() ? default_scene(scene_options) : load_scene_file(request.scene, scene_options),
                 {}};
   // The scene file's settings, with the command line's overrides on top.
   RenderSettings& settings = job.settings;
   settings = render_settings(job.file);
-  if (!request.res.empty()) std::tie(settings.width, settings.height) = parse_resolution(request.res);
   if (request.spp > 0) settings.spp = request.spp;
   if (request.seed >= 0) settings.seed = static_cast<uint64_t>(request.seed);
   settings.threads = request.threads;

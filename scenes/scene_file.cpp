@@ -86,8 +86,10 @@ class SceneParser {
         root_.fail(name, fmt::format("unknown key '{}' in the scene (expected one of: {})", name, list));
       }
     }
-    for (const auto& [key, section] : kSections)
+    for (const auto& [key, section] : kSections) {
       if (root_.has(key)) (this->*section)(root_);
+      if (key == "render" && options_.resolution) std::tie(out_.render.width, out_.render.height) = *options_.resolution;
+    }
     assign_automatic_object_ids();
     return std::move(out_);
   }

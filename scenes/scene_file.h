@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,9 @@ struct SceneOptions {
   // animation (`sylva render --frames`). Part of the content hash, so checkpoints and partial
   // renders of different frames never mix.
   std::optional<double> time_s;
+  // The image size the scene will be rendered at (`--res`), replacing [render] width and height:
+  // the level of detail of [vegetation] and [[placements]] trees is chosen for it (docs/lod.md).
+  std::optional<std::pair<int, int>> resolution;
 };
 
 // A tree's dead branches (TreeStems::dead) get the [[trees]] entry's `dead_bark` material, else a

@@ -233,6 +233,30 @@ TEST(LodScene, LevelPerInstanceIsDeterministicAndMonotoneInDistance) {
   EXPECT_THROW(parse_scene(row_scene("[lod]\nrange = 3\n"), "row.toml", kSpecies.parent_path()), ParseError);
 }
 
+// The resolution rendered (`--res`, SceneOptions::resolution) chooses the levels, not the file's
+// [render] size: four times the rows is the paper's r2 four times smaller (finer levels), and the
+// same size given explicitly changes nothing.
+TEST(LodScene, RenderedResolutionChoosesTheLevels) {
+  const std::vector<int> file = instance_levels(parse_scene(row_scene("[lod]\n"), "row.toml", kSpecies.parent_path()));
+  SceneOptions same, larger;
+  same.resolution = std::pair{320, 200};
+  larger.resolution = std::pair{1280, 800};
+  const SceneFile same_file = parse_scene(row_scene("[lod]\n"), "row.toml", kSpecies.parent_path(), same);
+  const SceneFile larger_file = parse_scene(row_scene("[lod]\n"), "row.toml", kSpecies.parent_path(), larger);
+  EXPECT_EQ(instance_levels(same_file), file);
+  EXPECT_EQ(larger_file.render.width, 1280);
+  EXPECT_EQ(larger_file.render.height, 800);
+  const std::vector<int> fine = instance_levels(larger_file);
+  ASSERT_EQ(fine.size(), file.size());
+  int sum_file = 0, sum_fine = 0;
+  for (size_t i = 0; i < file.size(); ++i) {
+    EXPECT_LE(fine[i], file[i]) << i;
+    sum_file += file[i];
+    sum_fine += fine[i];
+  }
+  EXPECT_LT(sum_fine, sum_file);
+}
+
 // [vegetation] with [lod]: the same trees (object ids, transforms) as without, some at reduced
 // levels, and only the levels in use are built.
 TEST(LodScene, VegetationTreesTakeLevels) {
