@@ -88,7 +88,8 @@ class SceneParser {
     }
     for (const auto& [key, section] : kSections) {
       if (root_.has(key)) (this->*section)(root_);
-      if (key == "render" && options_.resolution) std::tie(out_.render.width, out_.render.height) = *options_.resolution;
+      if (key == "render" && options_.resolution)
+        std::tie(out_.render.width, out_.render.height) = *options_.resolution;
     }
     assign_automatic_object_ids();
     return std::move(out_);
