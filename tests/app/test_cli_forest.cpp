@@ -82,6 +82,22 @@ TEST(CliForest, BadRasterExitsTwoAndWritesNothing) {
   fs::remove_all(dir);
 }
 
+// The OBJ of `sylva export` has no grass: it says so on stderr even with --quiet (the OBJ is not the
+// whole scene; bench/compare_embree.sh reads it), and says nothing when there is no grass.
+TEST(CliForest, ExportSaysGrassIsLeftOutEvenWhenQuiet) {
+  const fs::path dir = fresh_dir("cli_forest_export");
+  std::ofstream(dir / "s.toml") << scene("size = [12, 12]\nrelief = 0.5");
+  auto r = run_sylva("export " + q(dir / "s.toml") + " --obj " + q(dir / "s.obj") + " -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("grass blades (curves) left out"), std::string::npos) << r.err;
+  std::string bare = scene("size = [12, 12]\nrelief = 0.5");
+  bare.replace(bare.find("grass_cover = 1.0"), 17, "grass_cover = 0.0");
+  std::ofstream(dir / "bare.toml") << bare;
+  r = run_sylva("export " + q(dir / "bare.toml") + " --obj " + q(dir / "bare.obj") + " -q", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("left out"), std::string::npos) << r.err;
+}
+
 TEST(CliForest, DefaultSceneIsAForest) {
   // `sylva render` without a scene: the four appendix species placed over procedural terrain, each
   // tree its own object id (data/examples/default.toml).
