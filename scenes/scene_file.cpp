@@ -367,6 +367,18 @@ class SceneParser {
   // `class_id` and `variant_id` label every copy (the `id.class` and `id.variant` AOVs).
   void place(const Params& t, uint32_t proto, uint32_t class_id = kClassMesh, uint32_t variant_id = 0,
              const std::vector<Vec3>& at = {Vec3(0.0f)}) {
+    for (const Placed& c : placements(t, at))
+      out_.scene.instances.push_back(Instance{proto, c.world_from_object, c.object_id, class_id, variant_id});
+  }
+
+  // Where a table's copies go: its transform, each of its `instances` (or itself), each tile of a
+  // `tile`d plot, each offset in `at`, in that nesting order.
+  struct Placed {
+    Mat4 world_from_object;
+    uint32_t object_id;
+  };
+  std::vector<Placed> placements(const Params& t, const std::vector<Vec3>& at = {Vec3(0.0f)}) {
+    std::vector<Placed> out;
     const uint32_t object_id = static_cast<uint32_t>(t.integer("object_id", 0, 0, 1 << 24));
     const Mat4 base = transform(t);
     std::vector<Vec3> tiles{Vec3(0.0f)};
@@ -387,8 +399,7 @@ class SceneParser {
     const auto put = [&](const Mat4& m, uint32_t id) {
       for (const Vec3& tile : tiles)
         for (const Vec3& a : at)
-          out_.scene.instances.push_back(Instance{
-              proto, glm::translate(Mat4(1.0f), tile) * m * glm::translate(Mat4(1.0f), a), id, class_id, variant_id});
+          out.push_back({glm::translate(Mat4(1.0f), tile) * m * glm::translate(Mat4(1.0f), a), id});
     };
     if (t.has("instances")) {
       for (const Params* it : t.tables("instances")) {
@@ -398,6 +409,7 @@ class SceneParser {
     } else {
       put(base, object_id);
     }
+    return out;
   }
 
   // [plot]: the rectangle the plot sensor measures (size, centre), whether the world repeats it
@@ -614,17 +626,61 @@ class SceneParser {
       for (const uint32_t m : materials) key += fmt::format("|{}", m);
       if (options.years > 0) key += fmt::format("|years {}", options.years);
       if (t->has("dead_bark")) key += "|dead " + t->string("dead_bark");
-      auto it = tree_prototypes_.find(key);
-      if (it == tree_prototypes_.end()) {
+      const auto generate = [&] {
         GeneratedTree tree = generate_tree(species, seed, options, with_leaves);
         if (!tree.error.empty()) t->fail(file.string() + ": " + tree.error);
-        it = tree_prototypes_.emplace(key, add_tree_prototypes(*t, t->string("name", species.name), tree, materials))
+        return tree;
+      };
+      std::optional<GeneratedTree> tree;
+      auto it = tree_prototypes_.find(key);
+      if (it == tree_prototypes_.end()) {
+        tree = generate();
+        it = tree_prototypes_.emplace(key, add_tree_prototypes(*t, t->string("name", species.name), *tree, materials))
                  .first;
       }
       const uint32_t class_id = class_of(species.name);
       const uint32_t variant_id = variant_of(key, {"tree", species.name, file.string(), seed, class_id});
-      for (const uint32_t proto : it->second) place(*t, proto, class_id, variant_id);
+      if (!lod_.enabled) {
+        for (const uint32_t proto : it->second) place(*t, proto, class_id, variant_id);
+        continue;
+      }
+      // With [lod] (docs/lod.md): every copy at the level its own distance calls for, the levels
+      // made once per tree (the same variant key as [[placements]] and [vegetation] use).
+      const std::vector<Placed> copies = placements(*t);
+      const Bounds3 object = prototypes_bounds(it->second);
+      const size_t levels = kLodLevelR2.size();
+      std::vector<uint8_t> level(copies.size()), used(levels, 0);
+      for (size_t c = 0; c < copies.size(); ++c) {
+        level[c] = static_cast<uint8_t>(lod_level_of(object, copies[c].world_from_object));
+        used[level[c]] = tree_prototypes_.count(fmt::format("{}|lod {}", key, level[c])) == 0;
+      }
+      if (std::find(used.begin() + 1, used.end(), 1) != used.end()) {
+        if (!tree) tree = generate();
+        for (LodJob& job : build_lod_levels(used, {lod_source(*tree)}))
+          tree_prototypes_.emplace(fmt::format("{}|lod {}", key, job.level),
+                                   add_lod_prototypes(*t, t->string("name", species.name), job.lod, materials));
+      }
+      for (size_t c = 0; c < copies.size(); ++c) {
+        const std::vector<uint32_t>& protos =
+            level[c] == 0 ? it->second : tree_prototypes_.at(fmt::format("{}|lod {}", key, level[c]));
+        for (const uint32_t proto : protos)
+          out_.scene.instances.push_back(
+              Instance{proto, copies[c].world_from_object, copies[c].object_id, class_id, variant_id});
+      }
     }
+  }
+
+  // The object-space bounds of a tree's prototypes (stems, leaves, curves, discs).
+  Bounds3 prototypes_bounds(const std::vector<uint32_t>& protos) const {
+    Bounds3 b;
+    for (const uint32_t id : protos) {
+      const Prototype& p = out_.scene.prototypes[id];
+      for (const Vec3& v : p.triangles.positions) b.extend(v);
+      for (const Vec3& v : p.leaves.corners) b.extend(v);
+      for (const Vec4& v : p.curves.points) b.extend(Vec3(v));
+      for (size_t i = 0; i < p.discs.size(); ++i) b.extend(p.discs.centre[i]);
+    }
+    return b;
   }
 
   // [[placements]]: trees from a placement list (a CSV `file`, scenes/placement_list.h, or TOML

@@ -10,6 +10,8 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -255,6 +257,57 @@ TEST(LodScene, RenderedResolutionChoosesTheLevels) {
     sum_fine += fine[i];
   }
   EXPECT_LT(sum_fine, sum_file);
+}
+
+// [[trees]] with [lod]: each of a table's `instances` at the level of its own distance — the row of
+// RowScene placed by hand instead of by [[placements]] — the same copies (object ids, transforms)
+// as without [lod], and one set of levels per tree shared by every copy.
+TEST(LodScene, HandPlacedTreesTakeLevels) {
+  const auto scene = [](const std::string& lod) {
+    std::string text = R"([render]
+width = 320
+height = 200
+[camera]
+position = [0, 0, 1.7]
+target = [0, 100, 1.7]
+vfov = 40
+[materials.bark]
+reflectance = 0.3
+[materials.leaf]
+type = "leaf"
+reflectance = 0.4
+transmittance = 0.4
+[[trees]]
+species = "species/quaking_aspen.toml"
+bark = "bark"
+leaf = "leaf"
+quality = 0.2
+)";
+    for (int i = 0; i < 40; ++i)
+      text += "[[trees.instances]]\ntranslate = [0, " + std::to_string(10 + i * 50) +
+              ", 0]\nobject_id = " + std::to_string(i + 1) + "\n";
+    return text + lod;
+  };
+  const SceneFile off = parse_scene(scene(""), "trees.toml", kSpecies.parent_path());
+  const SceneFile on = parse_scene(scene("[lod]\n"), "trees.toml", kSpecies.parent_path());
+  const std::vector<int> l_off = instance_levels(off), l_on = instance_levels(on);
+  ASSERT_EQ(l_on.size(), 40u);
+  for (const int l : l_off) EXPECT_EQ(l, 0);
+  for (size_t i = 1; i < l_on.size(); ++i) EXPECT_GE(l_on[i], l_on[i - 1]) << i;
+  EXPECT_EQ(l_on.front(), 0);
+  EXPECT_EQ(l_on.back(), static_cast<int>(kLodLevelR2.size()) - 1);
+  // The same levels as the same row placed by [[placements]] (one variant there: seed 1 only).
+  const std::vector<int> rows = instance_levels(parse_scene(row_scene("[lod]\n"), "row.toml", kSpecies.parent_path()));
+  int agree = 0;
+  for (size_t i = 0; i < l_on.size(); i += 2) agree += l_on[i] == rows[i];
+  EXPECT_GE(agree, 18);  // of 20: the two variants' bounds differ, a level may flip at a threshold
+  // Every copy keeps its object id and transform; each level is built once.
+  std::set<uint32_t> objects_on, objects_off;
+  for (const Instance& inst : on.scene.instances) objects_on.insert(inst.object_id);
+  for (const Instance& inst : off.scene.instances) objects_off.insert(inst.object_id);
+  EXPECT_EQ(objects_on, objects_off);
+  std::set<std::string> names;
+  for (const Prototype& p : on.scene.prototypes) EXPECT_TRUE(names.insert(p.name).second) << p.name;
 }
 
 // [vegetation] with [lod]: the same trees (object ids, transforms) as without, some at reduced
