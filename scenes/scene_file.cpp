@@ -631,11 +631,12 @@ class SceneParser {
         if (!tree.error.empty()) t->fail(file.string() + ": " + tree.error);
         return tree;
       };
-      std::optional<GeneratedTree> tree;
+      std::optional<GeneratedTree> source;  // what the levels are made from (add_tree_prototypes consumes the tree)
       auto it = tree_prototypes_.find(key);
       if (it == tree_prototypes_.end()) {
-        tree = generate();
-        it = tree_prototypes_.emplace(key, add_tree_prototypes(*t, t->string("name", species.name), *tree, materials))
+        GeneratedTree tree = generate();
+        if (lod_.enabled) source = lod_source(tree);
+        it = tree_prototypes_.emplace(key, add_tree_prototypes(*t, t->string("name", species.name), tree, materials))
                  .first;
       }
       const uint32_t class_id = class_of(species.name);
@@ -655,8 +656,8 @@ class SceneParser {
         used[level[c]] = tree_prototypes_.count(fmt::format("{}|lod {}", key, level[c])) == 0;
       }
       if (std::find(used.begin() + 1, used.end(), 1) != used.end()) {
-        if (!tree) tree = generate();
-        for (LodJob& job : build_lod_levels(used, {lod_source(*tree)}))
+        if (!source) source = lod_source(generate());
+        for (LodJob& job : build_lod_levels(used, {*source}))
           tree_prototypes_.emplace(fmt::format("{}|lod {}", key, job.level),
                                    add_lod_prototypes(*t, t->string("name", species.name), job.lod, materials));
       }

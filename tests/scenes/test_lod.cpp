@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <tuple>
 
 #include <array>
 #include <cmath>
@@ -308,6 +309,23 @@ quality = 0.2
   EXPECT_EQ(objects_on, objects_off);
   std::set<std::string> names;
   for (const Prototype& p : on.scene.prototypes) EXPECT_TRUE(names.insert(p.name).second) << p.name;
+  // The levels are the tree's own: each has its stems (tubes or lines) and its leaves (quads or
+  // discs), element for element those of the same tree (seed 1) placed by [[placements]].
+  const auto level_elements = [](const SceneFile& f) {
+    std::set<std::tuple<size_t, size_t, size_t, size_t>> out;
+    for (const Prototype& p : f.scene.prototypes)
+      if (p.name.find("(lod r2") != std::string::npos)
+        out.insert({p.triangles.triangles.size(), p.curves.size(), p.leaves.size(), p.discs.size()});
+    return out;
+  };
+  const auto placed_levels = level_elements(parse_scene(row_scene("[lod]\n"), "row.toml", kSpecies.parent_path()));
+  const auto hand_levels = level_elements(on);
+  EXPECT_EQ(hand_levels.size(), kLodLevelR2.size() - 1);
+  for (const auto& [triangles, curves, leaves, discs] : hand_levels) {
+    EXPECT_GT(triangles + curves, 0u);
+    EXPECT_GT(leaves + discs, 0u);
+    EXPECT_EQ(placed_levels.count({triangles, curves, leaves, discs}), 1u) << triangles << " " << curves;
+  }
 }
 
 // [vegetation] with [lod]: the same trees (object ids, transforms) as without, some at reduced
