@@ -165,9 +165,8 @@ TEST(Lod, LeafAreaAndBarkAreaPreservedPerLevel) {
   EXPECT_NEAR(bark_area(a.model, &far) / bark_area(trunk, nullptr), 1.0, 1e-4);
 }
 
-// A row of aspens from 10 m to 2 km along the camera's view, placed by [[placements]].
-std::string row_scene(const std::string& lod) {
-  std::string text = R"([render]
+// The camera and materials of the row scenes below: a view along +y from eye height.
+const char* const kRowView = R"([render]
 width = 320
 height = 200
 [camera]
@@ -180,7 +179,11 @@ reflectance = 0.3
 type = "leaf"
 reflectance = 0.4
 transmittance = 0.4
-[[placements]]
+)";
+
+// A row of aspens from 10 m to 2 km along the camera's view, placed by [[placements]].
+std::string row_scene(const std::string& lod) {
+  std::string text = std::string(kRowView) + R"([[placements]]
 species.aspen = { species = "species/quaking_aspen.toml", bark = "bark", leaf = "leaf", quality = 0.2 }
 rows = [
 )";
@@ -265,20 +268,7 @@ TEST(LodScene, RenderedResolutionChoosesTheLevels) {
 // as without [lod], and one set of levels per tree shared by every copy.
 TEST(LodScene, HandPlacedTreesTakeLevels) {
   const auto scene = [](const std::string& lod) {
-    std::string text = R"([render]
-width = 320
-height = 200
-[camera]
-position = [0, 0, 1.7]
-target = [0, 100, 1.7]
-vfov = 40
-[materials.bark]
-reflectance = 0.3
-[materials.leaf]
-type = "leaf"
-reflectance = 0.4
-transmittance = 0.4
-[[trees]]
+    std::string text = std::string(kRowView) + R"([[trees]]
 species = "species/quaking_aspen.toml"
 bark = "bark"
 leaf = "leaf"
