@@ -51,6 +51,22 @@ transmittance = 0.4
 TOML
 }
 
+# One species of the feature map: its bit and the shipped species file's name.
+map_species() {
+  cat <<TOML
+[[vegetation.species]]
+bit = $1
+species = "$REPO/data/species/$2.toml"
+bark = "bark"
+leaf = "leaf"
+quality = $QUALITY
+density = 300
+min_spacing = 4
+variants = 10
+scale = [0.8, 1.2]
+TOML
+}
+
 for N in $COUNTS; do
   if [ "$PLACEMENT" = map ]; then
     # About 0.7 of the area carries one of the two species at 300 trees/ha: 210 trees/ha.
@@ -68,27 +84,9 @@ patch_size = 50
 tree_cover = 0.7
 grass_cover = 0
 seed = 3
-[[vegetation.species]]
-bit = 0
-species = "$REPO/data/species/quaking_aspen.toml"
-bark = "bark"
-leaf = "leaf"
-quality = $QUALITY
-density = 300
-min_spacing = 4
-variants = 10
-scale = [0.8, 1.2]
-[[vegetation.species]]
-bit = 1
-species = "$REPO/data/species/california_black_oak.toml"
-bark = "bark"
-leaf = "leaf"
-quality = $QUALITY
-density = 300
-min_spacing = 4
-variants = 10
-scale = [0.8, 1.2]
 TOML
+    map_species 0 quaking_aspen >> "$WORK/scene.toml"
+    map_species 1 california_black_oak >> "$WORK/scene.toml"
   else
   python3 - "$N" "$WORK/trees.csv" <<'PY'
 import math, sys
