@@ -1,14 +1,14 @@
 // `sylva export`: flattens a scene (or the built-in default) into one world-space triangle mesh
-// (OBJ) and prints the camera and lights as options of Embree's `pathtracer` tutorial, so the same
+// (OBJ, with a material library and leaf outline textures unless --no-materials:
+// render/obj_export.h) and prints the camera and lights as options of Embree's `pathtracer` tutorial, so the same
 // view can be rendered there (bench/compare_embree.sh).
 
 #include "app/commands.h"
 #include "app/render_job.h"
 #include "core/error.h"
 #include "core/output_paths.h"
-#include "geometry/mesh_io.h"
-#include "render/flatten.h"
 #include "render/lights/lights.h"
+#include "render/obj_export.h"
 #include "scenes/scene_file.h"
 
 #include <fmt/core.h>
@@ -26,6 +26,7 @@ struct ExportOptions {
   std::string obj;
   std::string res;
   bool quiet = false;
+  bool no_materials = false;
 };
 
 int run_export(const ExportOptions& opt) {
@@ -34,11 +35,14 @@ int run_export(const ExportOptions& opt) {
   SceneOptions scene_options;
   if (!opt.res.empty()) scene_options.resolution = parse_resolution(opt.res);
   const SceneFile file = opt.scene.empty() ? default_scene(scene_options) : load_scene_file(opt.scene, scene_options);
-  check_outputs({{"--obj", opt.obj}}, file.inputs);
   const int width = file.render.width, height = file.render.height;
   const Scene& scene = file.scene;
-  const TriangleMesh world = flatten_scene(scene);
-  write_obj(opt.obj, world);
+  const ObjExportFiles files = obj_export_files(scene, opt.obj, !opt.no_materials);
+  std::vector<OutputFile> outputs{{"--obj", files.obj}};
+  if (!files.mtl.empty()) outputs.push_back({"material library", files.mtl});
+  for (const auto& [shape, texture] : files.outlines) outputs.push_back({"leaf outline texture", texture});
+  check_outputs(outputs, file.inputs);
+  const ObjExportSummary written = export_obj(scene, files);
 
   // Embree's tutorial camera (right-handed by default) takes the same look-at and vertical field
   // of view. Its --distantlight takes the direction the light travels (sun → scene), an RGB
@@ -60,8 +64,11 @@ int run_export(const ExportOptions& opt) {
   if (lens->aperture_radius_m > 0.0f && !opt.quiet)
     fmt::print(stderr, "export: the scene's thin-lens camera is exported as a pinhole\n");
   if (!opt.quiet)
-    fmt::print(stderr, "export: {} instances → {} triangles, {} vertices in {} (leaf outlines not kept: full quads)\n",
-               scene.instances.size(), world.triangles.size(), world.positions.size(), opt.obj);
+    fmt::print(stderr, "export: {} instances → {} triangles, {} vertices in {}; {}\n", scene.instances.size(),
+               written.triangles, written.vertices, opt.obj,
+               files.mtl.empty() ? std::string("no materials, leaves as full opaque quads")
+                                 : fmt::format("{} materials in {}, {} leaf outline textures", written.parts,
+                                               files.mtl.string(), files.outlines.size()));
   // Said even with --quiet: the OBJ is not the whole scene (bench/compare_embree.sh reads this).
   size_t blades = 0;
   for (const Instance& inst : scene.instances) blades += scene.prototypes[inst.prototype].curves.size();
@@ -78,6 +85,8 @@ CommandRun add_export_command(CLI::App& parent) {
   cmd->add_option("scene", opt->scene, "Scene file (TOML); omit for the built-in default scene");
   cmd->add_option("--obj", opt->obj, "Output OBJ (written atomically)")->required();
   cmd->add_option("--res", opt->res, "Resolution WIDTHxHEIGHT for --size (default: the scene's)");
+  cmd->add_flag("--no-materials", opt->no_materials,
+                "Geometry only: no material library, leaves as full opaque quads (no outline textures)");
   cmd->add_flag("-q,--quiet", opt->quiet, "No summary on stderr");
   return [opt] { return run_export(*opt); };
 }

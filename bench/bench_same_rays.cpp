@@ -96,7 +96,7 @@ constexpr int kWidth = 320, kHeight = 180, kMaxBounces = 8;
 
 std::unique_ptr<SameRays> make_same_rays(const SceneFile& file) {
   auto out = std::make_unique<SameRays>();
-  const TriangleMesh world = flatten_scene(file.scene);
+  const TriangleMesh world = flatten_scene(file.scene).mesh;
   out->triangles = world.triangles.size();
   out->device = rtcNewDevice("verbose=0,max_isa=avx2");
   out->scene = rtcNewScene(out->device);

@@ -5,9 +5,10 @@
 #                           [--pathtracer PATH]
 #
 # SYLVA is a built `sylva` binary (this script builds nothing). Without SCENE the built-in default
-# scene is used. The scene is exported with `sylva export` to one world-space OBJ (leaf quads as two
-# full triangles each; the tutorial has no alpha cut-outs) plus the tutorial's camera and light
-# options, then rendered by
+# scene is used. The scene is exported with `sylva export --no-materials` to one world-space OBJ
+# (leaf quads as two full triangles each, the tutorial's default material everywhere: its filter
+# reads an opacity map at the ray's previous hit, not the candidate's, so `map_d` leaf outlines do
+# not cut there — bench/README.md) plus the tutorial's camera and light options, then rendered by
 #   pathtracer -i scene.obj --size W H --spp 1 --benchmark 4 N --legacy --threads T <camera, lights>
 # (4 warm-up frames, N timed frames of one path per pixel; the tutorial's default maximum path
 # length is 8, --max-path-length passes another, e.g. 16 = Sylva's default max_depth), and by
@@ -61,7 +62,7 @@ echo "scene: ${scene:-<default scene>}, ${width}x${height}, $threads threads, $f
 # (export says how many on stderr) but Sylva renders them: then the two renderers trace different
 # scenes, and the figures below are not like for like (the default scene's like-for-like twin is
 # bench/scenes/forest_no_grass.toml).
-read -r -a view < <("$sylva" export ${scene:+"$scene"} --obj "$work/scene.obj" --res "$res" -q 2>"$work/export.err")
+read -r -a view < <("$sylva" export ${scene:+"$scene"} --obj "$work/scene.obj" --no-materials --res "$res" -q 2>"$work/export.err")
 cat "$work/export.err" >&2
 if left_out=$(grep -o '[0-9]* grass blades (curves) left out' "$work/export.err"); then
   echo "NOT LIKE FOR LIKE: the pathtracer's OBJ has no grass ($left_out) and Sylva renders it;" \

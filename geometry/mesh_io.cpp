@@ -229,23 +229,48 @@ TriangleMesh read_mesh(const std::filesystem::path& file) {
 }
 
 void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  const std::vector<uint32_t> one_group(mesh.triangles.size(), 0);
+  write_obj(file, mesh, ObjGroups{one_group, {}, {}});
+}
+
+void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh, const ObjGroups& groups) {
   validate(mesh, file);
+  if (groups.of_triangle.size() != mesh.triangles.size())
+    throw Error("cannot write " + file.string() + ": face groups and faces differ in count");
+  // Faces by group, each group in mesh order (a counting sort).
+  const size_t group_count = std::max<size_t>(groups.names.size(), 1);
+  std::vector<size_t> start(group_count + 1, 0);
+  for (const uint32_t g : groups.of_triangle) {
+    if (g >= group_count) throw Error("cannot write " + file.string() + ": a face's group has no name");
+    ++start[g + 1];
+  }
+  for (size_t g = 0; g < group_count; ++g) start[g + 1] += start[g];
+  std::vector<uint32_t> order(mesh.triangles.size());
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) order[next[groups.of_triangle[t]]++] = static_cast<uint32_t>(t);
+
   write_buffered(file, [&](BufferedWriter& w) {
     w.put("# Sylva mesh: ");
     w.put(uint64_t{mesh.positions.size()});
     w.put(" vertices, ");
     w.put(uint64_t{mesh.triangles.size()});
     w.put(" triangles\n");
+    if (!groups.mtllib.empty()) w.put("mtllib " + groups.mtllib + "\n");
     for (const Vec3& p : mesh.positions) put_vec(w, "v", p);
     for (const Vec2& t : mesh.uvs) put_vec(w, "vt", t);
     for (const Vec3& n : mesh.normals) put_vec(w, "vn", n);
     const bool uv = !mesh.uvs.empty();
     const bool nrm = !mesh.normals.empty();
-    for (const glm::uvec3& t : mesh.triangles) {
-      w.put('f');
-      for (int k = 0; k < 3; ++k) put_corner(w, t[k], uv ? t[k] : kNoIndex, nrm ? t[k] : kNoIndex);
-      w.put('\n');
-      w.maybe_flush();
+    for (size_t g = 0; g < group_count; ++g) {
+      if (start[g] == start[g + 1]) continue;
+      if (!groups.names.empty()) w.put("g " + groups.names[g] + "\nusemtl " + groups.names[g] + "\n");
+      for (size_t i = start[g]; i < start[g + 1]; ++i) {
+        const glm::uvec3& t = mesh.triangles[order[i]];
+        w.put('f');
+        for (int k = 0; k < 3; ++k) put_corner(w, t[k], uv ? t[k] : kNoIndex, nrm ? t[k] : kNoIndex);
+        w.put('\n');
+        w.maybe_flush();
+      }
     }
   });
 }

@@ -6,6 +6,8 @@
 #include "geometry/mesh.h"
 
 #include <filesystem>
+#include <span>
+#include <string>
 
 namespace sylva {
 
@@ -44,5 +46,15 @@ void write_ply(const std::filesystem::path& file, const TreeMesh& mesh);
 // Writes a plain triangle mesh as OBJ (v, then vt and vn when present, faces in the matching form).
 // Atomic like the TreeMesh writers. Floats are written in shortest round-trip form.
 void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh);
+
+// Faces in named groups, each written as `g NAME` and `usemtl NAME` followed by its faces (in mesh
+// order), after `mtllib MTLLIB` when that is not empty. `of_triangle[t]` is face t's row of
+// `names`; groups without faces are not written. Names must be non-empty and free of white space.
+struct ObjGroups {
+  std::span<const uint32_t> of_triangle;
+  std::span<const std::string> names;
+  std::string mtllib;
+};
+void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh, const ObjGroups& groups);
 
 }  // namespace sylva

@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <fstream>
+#include <map>
+#include <sstream>
 
 #include <signal.h>
 
@@ -186,6 +189,75 @@ TEST(CliExport, FlattensTheSceneToObj) {
   for (size_t p = obj.find("\nf "); p != std::string::npos; p = obj.find("\nf ", p + 1)) ++faces;
   EXPECT_EQ(faces, 2522u + 2u * 27000u);
   EXPECT_NE(r.out.find("--vp"), std::string::npos) << r.out;  // the matching pathtracer camera
+}
+
+// The material library: one material per part, each part's faces under its `usemtl`; diffuse
+// colours from the spectra (a constant reflectance keeps its value in every channel, the red paint
+// is red); the leaf part's opacity map is the leaf outline (an oval covers π/4 of its quad).
+TEST(CliExport, WritesMaterialsAndLeafOutlines) {
+  const fs::path dir = fresh_dir("cli_export_materials");
+  const auto r = run_sylva(
+      "export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --obj '" + (dir / "scene.obj").string() + "'", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string obj = read_text(dir / "scene.obj");
+  const std::string mtl = read_text(dir / "scene.mtl");
+  EXPECT_NE(obj.find("mtllib scene.mtl\n"), std::string::npos);
+  std::map<std::string, std::string> materials;  // name → its statements
+  for (size_t p = mtl.find("newmtl "); p != std::string::npos;) {
+    const size_t end = mtl.find("newmtl ", p + 1);
+    const std::string block = mtl.substr(p, end == std::string::npos ? std::string::npos : end - p);
+    materials[block.substr(7, block.find('\n') - 7)] = block;
+    p = end;
+  }
+  size_t groups = 0;
+  for (size_t p = obj.find("\nusemtl "); p != std::string::npos; p = obj.find("\nusemtl ", p + 1), ++groups) {
+    const std::string name = obj.substr(p + 8, obj.find('\n', p + 1) - p - 8);
+    EXPECT_EQ(materials.count(name), 1u) << name;
+  }
+  EXPECT_EQ(groups, materials.size());
+  auto kd = [&](const std::string& name) {
+    std::istringstream in(materials.at(name).substr(materials.at(name).find("Kd ") + 3));
+    std::array<float, 3> c{};
+    in >> c[0] >> c[1] >> c[2];
+    return c;
+  };
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(kd("concrete")[k], 0.35f, 1e-3f);
+  EXPECT_GT(kd("paint")[0], 2.0f * kd("paint")[1]);
+  EXPECT_GT(kd("paint")[1], kd("paint")[2] * 0.9f);
+
+  ASSERT_EQ(materials.count("leaf.oval"), 1u);
+  EXPECT_NE(materials["leaf.oval"].find("map_d scene.oval.ppm"), std::string::npos) << materials["leaf.oval"];
+  EXPECT_NE(materials["leaf.oval"].find("Tf 1 1 1"), std::string::npos);
+  const std::string ppm = read_text(dir / "scene.oval.ppm");
+  const std::string header = "P6\n256 256\n255\n";
+  ASSERT_EQ(ppm.size(), header.size() + 3 * 256 * 256);
+  EXPECT_EQ(ppm.substr(0, header.size()), header);
+  size_t inside = 0;
+  for (size_t i = header.size(); i < ppm.size(); i += 3) inside += static_cast<unsigned char>(ppm[i]) == 255;
+  EXPECT_NEAR(static_cast<double>(inside) / (256 * 256), 3.14159265 / 4.0, 0.005);
+  EXPECT_NE(obj.find("\nvt 1 1\n"), std::string::npos);  // leaf corners carry their quad coordinates
+
+  // Geometry only: no library, no maps, no texture coordinates.
+  const auto plain = run_sylva("export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --no-materials --obj '" +
+                                   (dir / "plain.obj").string() + "' -q",
+                               dir);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_FALSE(fs::exists(dir / "plain.mtl"));
+  EXPECT_FALSE(fs::exists(dir / "plain.oval.ppm"));
+  EXPECT_EQ(read_text(dir / "plain.obj").find("\nvt "), std::string::npos);
+}
+
+// Every file the export would write is checked before the scene is flattened: a directory where an
+// outline map would go stops it with nothing written.
+TEST(CliExport, ChecksEveryOutputBeforeWriting) {
+  const fs::path dir = fresh_dir("cli_export_outputs");
+  fs::create_directory(dir / "scene.oval.ppm");
+  const auto r = run_sylva(
+      "export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --obj '" + (dir / "scene.obj").string() + "'", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("scene.oval.ppm"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "scene.obj"));
+  EXPECT_FALSE(fs::exists(dir / "scene.mtl"));
 }
 
 TEST(CliExport, PolygonisesHalfSpaceCrowns) {
