@@ -30,18 +30,33 @@ const std::array<CieSkyCoefficients, 15>& cie_sky_table() {
 
 }  // namespace
 
-float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir) {
-  if (dir.z <= 0) return 0.0f;
+CieSkyShape::CieSkyShape(int type, const Vec3& sun_dir) : sun_dir_(sun_dir) {
   const CieSkyCoefficients& k = cie_sky_table().at(static_cast<size_t>(type - 1));
-  // Gradation φ(Z) = 1 + a·exp(b / cos Z); indicatrix f(χ) = 1 + c·[exp(dχ) − exp(dπ/2)] + e·cos²χ.
-  auto gradation = [&](float cos_z) { return 1.0f + k.a * std::exp(k.b / std::max(cos_z, 1e-4f)); };
-  auto indicatrix = [&](float chi) {
-    return 1.0f + k.c * (std::exp(k.d * chi) - std::exp(k.d * kPi / 2)) + k.e * sqr(std::cos(chi));
-  };
-  const float chi = safe_acos(glm::dot(dir, sun_dir));
+  a_ = k.a;
+  b_ = k.b;
+  c_ = k.c;
+  d_ = k.d;
+  e_ = k.e;
+  exp_d_half_pi_ = std::exp(k.d * kPi / 2);
   const float zs = safe_acos(sun_dir.z);
-  const float value = indicatrix(chi) * gradation(dir.z) / (indicatrix(zs) * gradation(1.0f));
+  zenith_ = indicatrix(zs) * gradation(1.0f);
+}
+
+float CieSkyShape::operator()(const Vec3& dir) const {
+  if (dir.z <= 0) return 0.0f;
+  const float chi = safe_acos(glm::dot(dir, sun_dir_));
+  const float value = indicatrix(chi) * gradation(dir.z) / zenith_;
   return std::max(0.0f, value);
+}
+
+float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir) {
+  return CieSkyShape(type, sun_dir)(dir);
+}
+
+void CieSky::prepare(const Vec3& sun_dir) { shape_ = CieSkyShape(type, sun_dir); }
+
+float CieSky::relative_radiance(const Vec3& dir, const Vec3& sun_dir) const {
+  return shape_ && shape_->sun_direction() == sun_dir ? (*shape_)(dir) : cie_sky_relative_luminance(type, dir, sun_dir);
 }
 
 CieSky CieSky::create(const Params& params) {

@@ -7,11 +7,36 @@
 #include "core/params.h"
 #include "core/spectrum.h"
 
+#include <algorithm>
+#include <cmath>
+#include <optional>
 #include <string_view>
 
 namespace sylva {
 
-// CIE relative sky luminance L(ω)/L(zenith) (ISO 15469 / CIE S 011), 0 below the horizon.
+// The CIE relative sky luminance L(ω)/L(zenith) for one sun direction (ISO 15469 / CIE S 011):
+// gradation φ(Z) = 1 + a·exp(b / cos Z), indicatrix f(χ) = 1 + c·[exp(dχ) − exp(dπ/2)] + e·cos²χ,
+// L(ω)/L(zenith) = f(χ)·φ(Z) / (f(Z_sun)·φ(0)); 0 below the horizon. What depends on the sun only
+// is computed once.
+class CieSkyShape {
+ public:
+  CieSkyShape(int type, const Vec3& sun_dir);
+  float operator()(const Vec3& dir) const;
+  const Vec3& sun_direction() const { return sun_dir_; }
+
+ private:
+  float gradation(float cos_z) const { return 1.0f + a_ * std::exp(b_ / std::max(cos_z, 1e-4f)); }
+  float indicatrix(float chi) const {
+    return 1.0f + c_ * (std::exp(d_ * chi) - exp_d_half_pi_) + e_ * sqr(std::cos(chi));
+  }
+
+  Vec3 sun_dir_;
+  float a_, b_, c_, d_, e_;
+  float exp_d_half_pi_;
+  float zenith_;  // f(Z_sun)·φ(0)
+};
+
+// The same for one direction (a CieSkyShape made and used once).
 float cie_sky_relative_luminance(int type, const Vec3& dir, const Vec3& sun_dir);
 
 struct CieSky {
@@ -24,10 +49,13 @@ struct CieSky {
 
   static CieSky create(const Params& params);
   DenseSpectrum default_spectrum() const { return astm_g173_diffuse(); }
+  // Computes the shape for this sun once (Environment does, for the scene's sun).
+  void prepare(const Vec3& sun_dir);
   // The directional shape g(ω), relative to the zenith.
-  float relative_radiance(const Vec3& dir, const Vec3& sun_dir) const {
-    return cie_sky_relative_luminance(type, dir, sun_dir);
-  }
+  float relative_radiance(const Vec3& dir, const Vec3& sun_dir) const;
+
+ private:
+  std::optional<CieSkyShape> shape_;
 };
 
 }  // namespace sylva

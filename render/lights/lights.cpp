@@ -23,6 +23,11 @@ Vec3 sun_direction(float azimuth_deg, float elevation_deg) {
 Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sky_(sky) {
   const Vec3 sun_dir = sun_direction(sun.azimuth_deg, sun.elevation_deg);
   sky_.sun_direction = sun_dir;
+  std::visit(
+      [&](auto& m) {
+        if constexpr (requires { m.prepare(sun_dir); }) m.prepare(sun_dir);
+      },
+      sky_.model);
   if (const CieSky* cie = std::get_if<CieSky>(&sky.model); cie && (cie->type < 1 || cie->type > 15))
     throw Error("sky: CIE standard sky type must be 1..15");
   if (!(sky.ground_albedo >= 0.0f && sky.ground_albedo <= 1.0f)) throw Error("sky: ground albedo must lie in [0, 1]");

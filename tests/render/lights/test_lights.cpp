@@ -150,7 +150,9 @@ TEST(Lights, SkyHorizontalIrradianceMatchesItsSpectrum) {
   sun.elevation_deg = 40;
   for (int type : {1, 5, 12, 15}) {
     SkyDesc sky;
-    sky.model = CieSky{type};
+    CieSky cie;
+    cie.type = type;
+    sky.model = cie;
     const Environment env(sun, sky);
     SampledWavelengths wl;
     wl.lambda_nm = SampledSpectrum(500.0f);
@@ -178,6 +180,21 @@ TEST(Lights, CieRelativeLuminance) {
   EXPECT_GT(cie_sky_relative_luminance(12, near_sun, sun), 2.0f * cie_sky_relative_luminance(12, away, sun));
   // Overcast (1): three times brighter at the zenith than at the horizon (Moon & Spencer).
   EXPECT_NEAR(cie_sky_relative_luminance(1, glm::normalize(Vec3(1, 0, 1e-3f)), sun), 1.0f / 3.0f, 0.01f);
+}
+
+// A CieSky prepared for the scene's sun keeps what depends on the sun only and gives the same bits
+// as the one-direction function; for another sun it computes afresh.
+TEST(Lights, CiePreparedShapeMatchesTheFunction) {
+  const Vec3 sun = sun_direction(140, 35), other = sun_direction(20, 60);
+  CieSky sky;
+  sky.type = 12;
+  sky.prepare(sun);
+  Pcg32 rng(7);
+  for (int i = 0; i < 1000; ++i) {
+    const Vec3 d = glm::normalize(symmetric3(rng));
+    EXPECT_EQ(sky.relative_radiance(d, sun), cie_sky_relative_luminance(12, d, sun));
+    EXPECT_EQ(sky.relative_radiance(d, other), cie_sky_relative_luminance(12, d, other));
+  }
 }
 
 // The Preetham sky (render/lights/preetham_sky.h): sampled by its luminance map, evaluated
