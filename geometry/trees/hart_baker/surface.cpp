@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <unordered_map>
 
@@ -224,43 +225,6 @@ bool is_lateral(const TreeModel& model, size_t s) {
   return p >= 0 && model.stems.level[s] > model.stems.level[static_cast<size_t>(p)];
 }
 
-// The blended joints: one per node whose thickest lateral reaches the threshold.
-void add_joints(const TreeModel& model, const HartBakerSurface& surface, TriangleMesh& out) {
-  const size_t count = model.stems.size();
-  std::vector<StemCone> cones(count);
-  for (size_t s = 0; s < count; ++s) cones[s] = stem_cone(model, s);
-  const std::vector<std::vector<int32_t>> children = stem_children(model);
-  std::vector<BlendCone> nearby;
-  for (size_t p = 0; p < count; ++p) {
-    float lateral = 0;
-    for (const int32_t c : children[p])
-      if (is_lateral(model, static_cast<size_t>(c)))
-        lateral = std::max(lateral, cones[static_cast<size_t>(c)].cone.base_radius_m);
-    if (lateral <= 0 || lateral < surface.joint_min_radius_m) continue;
-    const BlendCone& parent = cones[p].cone;
-    const float parent_r = parent.tip_radius_m;
-    BlendJoint joint{parent.tip, surface.reach * std::max(parent_r, lateral), surface.fillet * lateral};
-    const float half = joint.reach_m * 1.1f;
-    // The node's own limbs first (blended_cones reads at most 16), then any other limb in reach.
-    nearby.clear();
-    nearby.push_back(parent);
-    for (const int32_t c : children[p]) nearby.push_back(cones[static_cast<size_t>(c)].cone);
-    for (size_t s = 0; s < count; ++s) {
-      if (s == p || model.stems.parent[s] == static_cast<int32_t>(p)) continue;
-      const StemCone& c = cones[s];
-      if (c.hi.x < joint.centre.x - half || c.lo.x > joint.centre.x + half || c.hi.y < joint.centre.y - half ||
-          c.lo.y > joint.centre.y + half || c.hi.z < joint.centre.z - half || c.lo.z > joint.centre.z + half)
-        continue;
-      nearby.push_back(c.cone);
-    }
-    // Cells small enough that the thinnest limb at the node is several cells across.
-    float thinnest = parent_r;
-    for (const int32_t c : children[p]) thinnest = std::min(thinnest, cones[static_cast<size_t>(c)].cone.base_radius_m);
-    const int cells = std::clamp(static_cast<int>(std::ceil(2 * half / (0.5f * thinnest))), 8, surface.joint_cells);
-    append_mesh(out, polygonise_joint(nearby, joint, half, cells));
-  }
-}
-
 Vec3 axis_point(const BlendCone& c, float t) { return c.base + (c.tip - c.base) * t; }
 
 // The angle of direction v about a stem's frame (0 along frame.x).
@@ -298,7 +262,547 @@ void respace(std::vector<float>& angles, float circumference, float spacing) {
   }
 }
 
+// The blended joints: one per node whose thickest lateral reaches the threshold.
+struct PathWalk {
+  bool ok = false;
+  std::vector<int32_t> stems;  // from the node outward, the ring's stem last
+  float ring_arc = 0;
+  Vec3 ring{0.0f};
+  Vec3 dir{0.0f};  // the axis at the ring, away from the node
+  float radius = 0;
+};
+
+// Follows a limb away from a node — from `start`'s base toward its tip (up) or from its tip toward
+// its base (down), on through yearly continuations — for `distance` metres along the sections,
+// and places a ring there (on an existing section within `snap`). Fails where the limb ends first,
+// turns into a lateral's base, passes another joint's node or a dead stem.
+PathWalk walk_limb(const TreeModel& model, const std::vector<std::vector<int32_t>>& children,
+                   const std::vector<uint8_t>& joint_at, int32_t start, bool up, float distance, float snap) {
+  PathWalk w;
+  const StemSections& sec = model.sections;
+  float walked = 0;
+  int32_t s = start;
+  while (true) {
+    const size_t su = static_cast<size_t>(s);
+    if (model.stems.is_dead(su)) return w;
+    w.stems.push_back(s);
+    const uint32_t first = model.stems.first_section[su];
+    const uint32_t count = model.stems.section_count[su];
+    for (uint32_t k = 1; k < count; ++k) {
+      const uint32_t a = up ? first + k - 1 : first + count - k;
+      const uint32_t b = up ? a + 1 : a - 1;
+      const float len = glm::length(sec.positions[b] - sec.positions[a]);
+      if (walked + len < distance) {
+        walked += len;
+        continue;
+      }
+      float t = len > 0 ? (distance - walked) / len : 0.0f;
+      if ((1 - t) * len < snap)
+        t = 1;
+      else if (t * len < snap && walked > 0)
+        t = 0;
+      w.ring_arc = t == 0 ? sec.arc_m[a] : t == 1 ? sec.arc_m[b] : sec.arc_m[a] + (sec.arc_m[b] - sec.arc_m[a]) * t;
+      w.ring = sec.positions[a] + (sec.positions[b] - sec.positions[a]) * t;
+      w.radius = sec.radius_m[a] + (sec.radius_m[b] - sec.radius_m[a]) * t;
+      w.dir = len > 0 ? (sec.positions[b] - sec.positions[a]) / len : Vec3(0, 0, up ? 1 : -1);
+      w.ok = len > 0;
+      return w;
+    }
+    if (up) {
+      if (joint_at[su]) return w;
+      int32_t next = -1;
+      for (const int32_t c : children[su])
+        if (!is_lateral(model, static_cast<size_t>(c))) next = c;
+      if (next < 0) return w;
+      s = next;
+    } else {
+      const int32_t p = model.stems.parent[su];
+      if (p < 0 || is_lateral(model, su) || joint_at[static_cast<size_t>(p)]) return w;
+      s = p;
+    }
+  }
+}
+
+// The field's gradient by central differences.
+Vec3 field_gradient(const Vec3& p, std::span<const BlendCone> cones, const BlendJoint& joint, float e) {
+  auto f = [&](const Vec3& x) { return blended_cones(x, cones, joint); };
+  return Vec3(f(p + Vec3(e, 0, 0)) - f(p - Vec3(e, 0, 0)), f(p + Vec3(0, e, 0)) - f(p - Vec3(0, e, 0)),
+              f(p + Vec3(0, 0, e)) - f(p - Vec3(0, 0, e)));
+}
+
+// The angle of p about the axis through `centre` along unit `axis`, in [0, 2π), from `e0`.
+float angle_about(const Vec3& p, const Vec3& centre, const Vec3& axis, const Vec3& e0) {
+  const Vec3 d = p - centre;
+  return wrap(std::atan2(glm::dot(d, glm::cross(axis, e0)), glm::dot(d, e0)));
+}
+
+// Opens the closed joint mesh where a limb leaves it: drops what lies beyond the cut's plane
+// within its cylinder and splits the triangles crossing the plane. The new vertices — one loop —
+// are moved onto the field's zero set within the plane, given the field's gradient as normal, and
+// returned in order around the limb. False (mesh untouched) when the cut is not clean: something
+// else crosses the cylinder beyond the plane, or the boundary is not one loop around the axis.
+bool open_joint(TriangleMesh& mesh, JointCut& cut, std::span<const BlendCone> cones, const BlendJoint& joint,
+                float cell) {
+  const Vec3 u = cut.normal;
+  const size_t nv = mesh.positions.size();
+  std::vector<float> d(nv);
+  std::vector<uint8_t> state(nv);  // 0 kept, 1 removed (beyond, in the cylinder), 2 beyond but outside
+  for (size_t v = 0; v < nv; ++v) {
+    const Vec3 rel = mesh.positions[v] - cut.origin;
+    d[v] = glm::dot(rel, u);
+    if (std::abs(d[v]) < 1e-7f) d[v] = -1e-7f;
+    if (d[v] > 0) state[v] = glm::length(rel - u * d[v]) < cut.radius_m ? 1 : 2;
+  }
+  TriangleMesh out;
+  out.positions = mesh.positions;
+  out.normals = mesh.normals;
+  out.uvs = mesh.uvs;
+  std::unordered_map<uint64_t, uint32_t> crossing;
+  std::unordered_map<uint32_t, uint32_t> next;  // the loop's directed edges
+  auto cross = [&](uint32_t a, uint32_t b) {
+    const uint64_t key = static_cast<uint64_t>(a) << 32 | b;  // a kept, b removed
+    if (const auto it = crossing.find(key); it != crossing.end()) return it->second;
+    const float t = d[a] / (d[a] - d[b]);
+    const uint32_t v = static_cast<uint32_t>(out.positions.size());
+    out.positions.push_back(out.positions[a] + (out.positions[b] - out.positions[a]) * t);
+    out.normals.push_back(out.normals[a]);
+    out.uvs.emplace_back(0.0f, 0.0f);
+    crossing.emplace(key, v);
+    return v;
+  };
+  for (const glm::uvec3& t : mesh.triangles) {
+    const int removed = (state[t.x] == 1) + (state[t.y] == 1) + (state[t.z] == 1);
+    if (removed == 0) {
+      out.triangles.push_back(t);
+      continue;
+    }
+    if (removed == 3) continue;
+    if (state[t.x] == 2 || state[t.y] == 2 || state[t.z] == 2) return false;
+    std::array<uint32_t, 4> poly{};
+    size_t n = 0;
+    uint32_t leave = 0, enter = 0;
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (state[a] == 0) poly[n++] = a;
+      if (state[a] == 0 && state[b] == 1) leave = poly[n++] = cross(a, b);
+      if (state[a] == 1 && state[b] == 0) enter = poly[n++] = cross(b, a);
+    }
+    // The kept polygon runs … → leave → enter → …: that edge lies on the plane, on the loop.
+    if (!next.emplace(leave, enter).second) return false;
+    out.triangles.emplace_back(poly[0], poly[1], poly[2]);
+    if (n == 4) out.triangles.emplace_back(poly[0], poly[2], poly[3]);
+  }
+  // One loop through every new vertex.
+  if (next.size() != crossing.size() || next.size() < 3) return false;
+  std::vector<uint32_t> loop;
+  for (uint32_t v = next.begin()->first;;) {
+    loop.push_back(v);
+    const auto it = next.find(v);
+    if (it == next.end()) return false;
+    v = it->second;
+    if (v == loop.front()) break;
+    if (loop.size() > next.size()) return false;
+  }
+  if (loop.size() != next.size()) return false;
+  // Onto the zero set, within the plane (Newton steps along the gradient's part in the plane).
+  const float e = 0.05f * cell;
+  for (const uint32_t v : loop) {
+    Vec3 x = out.positions[v];
+    for (int it = 0; it < 6; ++it) {
+      const float f = blended_cones(x, cones, joint);
+      Vec3 g = field_gradient(x, cones, joint, e) / (2 * e);
+      g -= u * glm::dot(g, u);
+      const float g2 = glm::dot(g, g);
+      if (g2 < 1e-12f || std::abs(f) < 1e-7f) break;
+      x -= g * (f / g2);
+    }
+    if (glm::length(x - out.positions[v]) > cell ||
+        glm::length((x - cut.origin) - u * glm::dot(x - cut.origin, u)) >= cut.radius_m)
+      return false;
+    out.positions[v] = x;
+    const Vec3 g = field_gradient(x, cones, joint, e);
+    out.normals[v] = glm::length(g) > 0 ? glm::normalize(g) : out.normals[v];
+  }
+  // Once around the axis, in one direction.
+  const Vec3 e0 = Frame::from_z(u).x;
+  float turned = 0;
+  int sign = 0;
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const float a = angle_about(out.positions[loop[i]], cut.origin, u, e0);
+    const float b = angle_about(out.positions[loop[(i + 1) % loop.size()]], cut.origin, u, e0);
+    const float step = std::remainder(b - a, 2 * kPi);
+    const int s = step > 0 ? 1 : -1;
+    if (sign != 0 && s != sign) return false;
+    sign = s;
+    turned += step;
+  }
+  if (std::abs(std::abs(turned) - 2 * kPi) > 0.1f) return false;
+  cut.loop = std::move(loop);
+  mesh = std::move(out);
+  return true;
+}
+
+// The cones near a node, the node's own limbs first (blended_cones reads at most 16): the field of
+// a joint drawn over the tubes.
+std::vector<BlendCone> cones_near(const TreeModel& model, const std::vector<StemCone>& cones,
+                                  const std::vector<std::vector<int32_t>>& children, size_t p, const Vec3& centre,
+                                  float half) {
+  std::vector<BlendCone> nearby{cones[p].cone};
+  for (const int32_t c : children[p]) nearby.push_back(cones[static_cast<size_t>(c)].cone);
+  for (size_t s = 0; s < cones.size(); ++s) {
+    if (s == p || model.stems.parent[s] == static_cast<int32_t>(p)) continue;
+    const StemCone& c = cones[s];
+    if (c.hi.x < centre.x - half || c.lo.x > centre.x + half || c.hi.y < centre.y - half || c.lo.y > centre.y + half ||
+        c.hi.z < centre.z - half || c.lo.z > centre.z + half)
+      continue;
+    nearby.push_back(c.cone);
+  }
+  return nearby;
+}
+
+// Plans a joint as one surface with the tubes (docs/hart_baker.md "Blended joints"): the field of
+// the node's limbs followed out of the blend — the parent down, each child (at least half a cell
+// thick) up — each cut where the blend has faded and no other limb is within two cells, a ring
+// 1.5 cells further out, the cube grown to hold the cuts, and the mesh opened at each cut.
+bool stitch_joint(JointPlan& plan, const TreeModel& model, const std::vector<std::vector<int32_t>>& children,
+                  const std::vector<uint8_t>& joint_at, const std::vector<StemCone>& cones, float lateral, float half0,
+                  int cells0) {
+  const size_t p = static_cast<size_t>(plan.node);
+  const BlendJoint& joint = plan.joint;
+  const float h = 2 * half0 / static_cast<float>(cells0);
+  struct Limb {
+    int32_t start;
+    bool up;
+    float cut;
+    PathWalk walk;
+  };
+  std::vector<Limb> limbs{{plan.node, false, 0.0f, {}}};
+  bool thickest = false;
+  for (const int32_t c : children[p]) {
+    const float r = cones[static_cast<size_t>(c)].cone.base_radius_m;
+    if (r < 0.5f * h) continue;  // drawn by its tube alone
+    limbs.push_back({c, true, 0.0f, {}});
+    thickest = thickest || (is_lateral(model, static_cast<size_t>(c)) && r == lateral);
+  }
+  if (!thickest) return false;
+  const float gap = 1.5f * h;
+  for (Limb& l : limbs) l.cut = joint.reach_m + 0.5f * h;
+  constexpr int kRounds = 8;
+  for (int round = 0;; ++round) {
+    for (Limb& l : limbs) {
+      l.walk = walk_limb(model, children, joint_at, l.start, l.up, l.cut + gap, 0.25f * h);
+      if (!l.walk.ok) return false;
+    }
+    // Push a cut out while its ring is in the blend or within two cells of another limb.
+    bool moved = false;
+    for (size_t i = 0; i < limbs.size(); ++i) {
+      Limb& l = limbs[i];
+      const Vec3 o = l.walk.ring - l.walk.dir * gap;
+      const Frame f = Frame::from_z(l.walk.dir);
+      bool clear = true;
+      for (int k = 0; k < 16 && clear; ++k) {
+        const float a = 2 * kPi * static_cast<float>(k) / 16;
+        const Vec3 x = o + l.walk.radius * (std::cos(a) * f.x + std::sin(a) * f.y);
+        clear = glm::length(x - joint.centre) >= joint.reach_m;
+        for (size_t j = 0; j < limbs.size() && clear; ++j)
+          if (j != i)
+            for (const int32_t s : limbs[j].walk.stems) {
+              const ConeDistance cd = cone_distance(x, cones[static_cast<size_t>(s)].cone);
+              if (cd.d - cd.r < 2 * h) clear = false;
+            }
+      }
+      if (!clear) {
+        l.cut += h;
+        moved = true;
+      }
+    }
+    if (!moved) break;
+    if (round == kRounds) return false;
+  }
+  std::vector<BlendCone> field;
+  std::vector<JointCut> cuts;
+  std::vector<int32_t> inside;
+  for (const Limb& l : limbs) {
+    for (const int32_t s : l.walk.stems) field.push_back(cones[static_cast<size_t>(s)].cone);
+    inside.insert(inside.end(), l.walk.stems.begin(), l.walk.stems.end() - 1);
+    JointCut cut;
+    cut.stem = l.walk.stems.back();
+    cut.ring_arc_m = l.walk.ring_arc;
+    cut.toward_tip = l.up;
+    cut.origin = l.walk.ring - l.walk.dir * gap;
+    cut.normal = l.walk.dir;
+    cut.radius_m = 1.25f * l.walk.radius + h;
+    cut.gap_m = gap;
+    cuts.push_back(std::move(cut));
+  }
+  if (field.size() > 16) return false;
+  // The cube holds every cut's cylinder with two cells to spare, in cells of the same size.
+  float half = half0;
+  for (const JointCut& c : cuts)
+    for (int a = 0; a < 3; ++a) {
+      const float across = c.radius_m * std::sqrt(std::max(0.0f, 1 - c.normal[a] * c.normal[a]));
+      half = std::max(half, std::abs(c.origin[a] - joint.centre[a]) + across + 2 * h);
+    }
+  const int cells = std::max(cells0, static_cast<int>(std::ceil(2 * half / h)));
+  TriangleMesh mesh = polygonise_joint(field, joint, half, cells);
+  const float cell = 2 * half / static_cast<float>(cells);
+  for (JointCut& c : cuts)
+    if (!open_joint(mesh, c, field, joint, cell)) return false;
+  plan.cones = std::move(field);
+  plan.half_m = half;
+  plan.cells = cells;
+  plan.cuts = std::move(cuts);
+  plan.inside = std::move(inside);
+  plan.mesh = std::move(mesh);
+  plan.stitched = true;
+  return true;
+}
+
+// Where the shared mesher put a stem's tube in its stems mesh (make_tree_mesh's layout: a base
+// cap centre, `rings` rings of m + 1 vertices, a tip vertex; m base-cap triangles, 2m per band,
+// m at the tip).
+struct TubeLayout {
+  uint32_t first_vertex = 0, first_triangle = 0, triangles = 0, m = 0, rings = 0;
+};
+
+std::vector<TubeLayout> tube_layout(const TreeModel& model, const TreeMeshOptions& options) {
+  std::vector<TubeLayout> layout(model.stems.size());
+  uint32_t vertices = 0, triangles = 0;
+  for (size_t s = 0; s < model.stems.size(); ++s) {
+    const uint32_t count = model.stems.section_count[s];
+    if (count < 2 || (options.split_dead_stems && model.stems.is_dead(s))) continue;
+    TubeLayout& l = layout[s];
+    l.m = static_cast<uint32_t>(radial_segments_for_level(options, model.stems.level[s], model.stems.lobes[s]));
+    const uint32_t last = model.stems.first_section[s] + count - 1;
+    l.rings = model.sections.radius_m[last] <= 1e-7f ? count - 1 : count;
+    l.first_vertex = vertices;
+    l.first_triangle = triangles;
+    l.triangles = l.m + (l.rings - 1) * 2 * l.m + l.m;
+    vertices += 2 + l.rings * (l.m + 1);
+    triangles += l.triangles;
+  }
+  return layout;
+}
+
+// The band between a cut's open loop (joint vertices) and its ring (tube vertices ring..ring+m,
+// the last repeating the first): both walked once around the limb's axis by angle, merged.
+void zipper(TriangleMesh& mesh, const JointCut& cut, uint32_t loop_offset, uint32_t ring, uint32_t m) {
+  const Vec3 u = cut.normal;
+  const Vec3 centre = cut.origin + u * cut.gap_m;
+  Vec3 e0 = mesh.positions[ring] - centre;
+  e0 = glm::normalize(e0 - u * glm::dot(e0, u));
+  std::vector<uint32_t> a(m + 1);
+  for (uint32_t j = 0; j <= m; ++j) a[j] = ring + j;
+  // The ring as the tube made it may turn either way about u.
+  if (angle_about(mesh.positions[ring + 1], centre, u, e0) > kPi) std::reverse(a.begin(), a.end());
+  std::vector<float> aa(m + 1);
+  for (uint32_t j = 0; j < m; ++j) aa[j] = angle_about(mesh.positions[a[j]], centre, u, e0);
+  aa[0] = 0;
+  aa[m] = 2 * kPi;
+  // The loop from its least angle, turning the same way.
+  std::vector<uint32_t> b(cut.loop.size());
+  for (size_t k = 0; k < b.size(); ++k) b[k] = cut.loop[k] + loop_offset;
+  const float a0 = angle_about(mesh.positions[b[0]], cut.origin, u, e0);
+  const float a1 = angle_about(mesh.positions[b[1]], cut.origin, u, e0);
+  if (std::remainder(a1 - a0, 2 * kPi) < 0) std::reverse(b.begin(), b.end());
+  std::vector<float> ba(b.size());
+  for (size_t k = 0; k < b.size(); ++k) ba[k] = angle_about(mesh.positions[b[k]], cut.origin, u, e0);
+  const size_t least = static_cast<size_t>(std::min_element(ba.begin(), ba.end()) - ba.begin());
+  std::rotate(b.begin(), b.begin() + static_cast<ptrdiff_t>(least), b.end());
+  std::rotate(ba.begin(), ba.begin() + static_cast<ptrdiff_t>(least), ba.end());
+  b.push_back(b.front());
+  ba.push_back(ba.front() + 2 * kPi);
+  auto emit = [&](uint32_t p, uint32_t q, uint32_t r) {
+    const Vec3 pp = mesh.positions[p], pq = mesh.positions[q], pr = mesh.positions[r];
+    const Vec3 mid = (pp + pq + pr) / 3.0f;
+    const Vec3 out = mid - (cut.origin + u * glm::dot(mid - cut.origin, u));
+    if (glm::dot(glm::cross(pq - pp, pr - pp), out) < 0) std::swap(q, r);
+    mesh.triangles.emplace_back(p, q, r);
+  };
+  size_t i = 0, k = 0;
+  const size_t n = b.size() - 1;
+  while (i < m || k < n) {
+    const bool ring_next = k == n || (i < m && aa[i + 1] <= ba[k + 1]);
+    if (ring_next) {
+      emit(a[i], a[i + 1], b[k]);
+      ++i;
+    } else {
+      emit(a[i], b[k + 1], b[k]);
+      ++k;
+    }
+  }
+}
+
+// Puts the joints into the tubes' mesh: stitched joints replace the tubes between their node and
+// their rings and are zipped to the rings; the others are added closed.
+void add_joints(TriangleMesh& stems, const TreeModel& ringed, const std::vector<JointPlan>& plans,
+                const TreeMeshOptions& options) {
+  const std::vector<TubeLayout> layout = tube_layout(ringed, options);
+  std::vector<uint8_t> dropped(stems.triangles.size(), 0);
+  auto drop = [&](uint32_t from, uint32_t to) { std::fill(dropped.begin() + from, dropped.begin() + to, 1); };
+  for (const JointPlan& plan : plans) {
+    const uint32_t offset = static_cast<uint32_t>(stems.positions.size());
+    append_mesh(stems, plan.mesh);
+    if (!plan.stitched) continue;
+    for (const int32_t s : plan.inside) {
+      const TubeLayout& l = layout[static_cast<size_t>(s)];
+      drop(l.first_triangle, l.first_triangle + l.triangles);
+    }
+    for (const JointCut& cut : plan.cuts) {
+      const size_t s = static_cast<size_t>(cut.stem);
+      const TubeLayout& l = layout[s];
+      const uint32_t first = ringed.stems.first_section[s];
+      uint32_t k = 0;
+      while (ringed.sections.arc_m[first + k] != cut.ring_arc_m) ++k;
+      const uint32_t band = l.first_triangle + l.m + 2 * l.m * k;
+      if (cut.toward_tip)
+        drop(l.first_triangle, band);
+      else
+        drop(band, l.first_triangle + l.triangles);
+      zipper(stems, cut, offset, l.first_vertex + 1 + k * (l.m + 1), l.m);
+    }
+  }
+  // Drop the trimmed triangles and the vertices nothing uses any more.
+  std::vector<glm::uvec3> kept;
+  kept.reserve(stems.triangles.size());
+  for (size_t t = 0; t < stems.triangles.size(); ++t)
+    if (t >= dropped.size() || !dropped[t]) kept.push_back(stems.triangles[t]);
+  std::vector<uint32_t> index(stems.positions.size(), std::numeric_limits<uint32_t>::max());
+  for (const glm::uvec3& t : kept)
+    for (int e = 0; e < 3; ++e) index[t[e]] = 0;
+  uint32_t used = 0;
+  for (size_t v = 0; v < index.size(); ++v)
+    if (index[v] == 0) {
+      index[v] = used;
+      stems.positions[used] = stems.positions[v];
+      if (!stems.normals.empty()) stems.normals[used] = stems.normals[v];
+      if (!stems.uvs.empty()) stems.uvs[used] = stems.uvs[v];
+      ++used;
+    }
+  stems.positions.resize(used);
+  if (!stems.normals.empty()) stems.normals.resize(used);
+  if (!stems.uvs.empty()) stems.uvs.resize(used);
+  for (glm::uvec3& t : kept) t = glm::uvec3(index[t.x], index[t.y], index[t.z]);
+  stems.triangles = std::move(kept);
+}
+
 }  // namespace
+
+std::vector<JointPlan> plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface) {
+  std::vector<JointPlan> plans;
+  const size_t count = model.stems.size();
+  std::vector<StemCone> cones(count);
+  for (size_t s = 0; s < count; ++s) cones[s] = stem_cone(model, s);
+  const std::vector<std::vector<int32_t>> children = stem_children(model);
+  std::vector<float> lateral(count, 0.0f);
+  std::vector<uint8_t> joint_at(count, 0);
+  for (size_t p = 0; p < count; ++p) {
+    for (const int32_t c : children[p])
+      if (is_lateral(model, static_cast<size_t>(c)))
+        lateral[p] = std::max(lateral[p], cones[static_cast<size_t>(c)].cone.base_radius_m);
+    joint_at[p] = lateral[p] > 0 && lateral[p] >= surface.joint_min_radius_m;
+  }
+  struct Closed {
+    float half;
+    int cells;
+  };
+  std::vector<Closed> closed;
+  for (size_t p = 0; p < count; ++p) {
+    if (!joint_at[p]) continue;
+    JointPlan plan;
+    plan.node = static_cast<int32_t>(p);
+    const BlendCone& parent = cones[p].cone;
+    const float parent_r = parent.tip_radius_m;
+    plan.joint = {parent.tip, surface.reach * std::max(parent_r, lateral[p]), surface.fillet * lateral[p]};
+    const float half = plan.joint.reach_m * 1.1f;
+    // Cells small enough that the thinnest limb at the node is several cells across.
+    float thinnest = parent_r;
+    for (const int32_t c : children[p]) thinnest = std::min(thinnest, cones[static_cast<size_t>(c)].cone.base_radius_m);
+    const int cells = std::clamp(static_cast<int>(std::ceil(2 * half / (0.5f * thinnest))), 8, surface.joint_cells);
+    closed.push_back({half, cells});
+    if (!stitch_joint(plan, model, children, joint_at, cones, lateral[p], half, cells)) {
+      plan.cones = cones_near(model, cones, children, p, plan.joint.centre, half);
+      plan.half_m = half;
+      plan.cells = cells;
+      plan.mesh = polygonise_joint(plan.cones, plan.joint, half, cells);
+    }
+    plans.push_back(std::move(plan));
+  }
+  // Two stitched joints may not trim the same stretch of a tube: where they would, both are drawn
+  // closed over the tubes.
+  struct Trim {
+    size_t plan;
+    float lo, hi;
+  };
+  std::vector<std::vector<Trim>> trims(count);
+  constexpr float kAll = std::numeric_limits<float>::infinity();
+  for (size_t i = 0; i < plans.size(); ++i) {
+    if (!plans[i].stitched) continue;
+    for (const int32_t s : plans[i].inside) trims[static_cast<size_t>(s)].push_back({i, -kAll, kAll});
+    for (const JointCut& c : plans[i].cuts)
+      trims[static_cast<size_t>(c.stem)].push_back(
+          {i, c.toward_tip ? -kAll : c.ring_arc_m, c.toward_tip ? c.ring_arc_m : kAll});
+  }
+  std::vector<uint8_t> clash(plans.size(), 0);
+  for (const std::vector<Trim>& on : trims)
+    for (size_t a = 0; a < on.size(); ++a)
+      for (size_t b = a + 1; b < on.size(); ++b)
+        if (on[a].plan != on[b].plan && on[a].lo <= on[b].hi && on[b].lo <= on[a].hi)
+          clash[on[a].plan] = clash[on[b].plan] = 1;
+  for (size_t i = 0; i < plans.size(); ++i) {
+    if (!clash[i]) continue;
+    JointPlan& plan = plans[i];
+    const size_t p = static_cast<size_t>(plan.node);
+    plan = JointPlan{plan.node, plan.joint, closed[i].half, closed[i].cells, {}, false, {}, {}, {}};
+    plan.cones = cones_near(model, cones, children, p, plan.joint.centre, plan.half_m);
+    plan.mesh = polygonise_joint(plan.cones, plan.joint, plan.half_m, plan.cells);
+  }
+  return plans;
+}
+
+TreeModel with_joint_rings(const TreeModel& model, std::span<const JointPlan> plans) {
+  std::vector<std::vector<float>> rings(model.stems.size());
+  bool any = false;
+  for (const JointPlan& plan : plans)
+    if (plan.stitched)
+      for (const JointCut& c : plan.cuts) {
+        rings[static_cast<size_t>(c.stem)].push_back(c.ring_arc_m);
+        any = true;
+      }
+  if (!any) return model;
+  TreeModel out = model;
+  const StemSections& in = model.sections;
+  StemSections& sec = out.sections;
+  sec = {};
+  for (size_t s = 0; s < model.stems.size(); ++s) {
+    std::vector<float>& add = rings[s];
+    std::sort(add.begin(), add.end());
+    const uint32_t first = model.stems.first_section[s];
+    const uint32_t count = model.stems.section_count[s];
+    out.stems.first_section[s] = static_cast<uint32_t>(sec.size());
+    size_t next = 0;
+    for (uint32_t k = 0; k < count; ++k) {
+      const uint32_t i = first + k;
+      // Rings strictly inside the piece ending at section i, on its straight line.
+      while (k > 0 && next < add.size() && add[next] < in.arc_m[i]) {
+        if (add[next] > in.arc_m[i - 1]) {
+          const float t = (add[next] - in.arc_m[i - 1]) / (in.arc_m[i] - in.arc_m[i - 1]);
+          sec.positions.push_back(in.positions[i - 1] + (in.positions[i] - in.positions[i - 1]) * t);
+          sec.frames.push_back(in.frames[i]);
+          sec.radius_m.push_back(in.radius_m[i - 1] + (in.radius_m[i] - in.radius_m[i - 1]) * t);
+          sec.arc_m.push_back(add[next]);
+        }
+        ++next;
+      }
+      sec.positions.push_back(in.positions[i]);
+      sec.frames.push_back(in.frames[i]);
+      sec.radius_m.push_back(in.radius_m[i]);
+      sec.arc_m.push_back(in.arc_m[i]);
+    }
+    out.stems.section_count[s] = static_cast<uint32_t>(sec.size()) - out.stems.first_section[s];
+  }
+  return out;
+}
 
 BarkFlow hart_baker_bark_flow(const TreeModel& model, const HartBakerParams& params) {
   // §5.3's chain of particles, advanced along each limb and split at every node. A particle keeps
@@ -534,8 +1038,15 @@ TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& para
 }
 
 TreeMesh make_hart_baker_mesh(const TreeModel& model, const HartBakerParams& params, const TreeMeshOptions& options) {
-  TreeMesh mesh = make_tree_mesh(model, options);
-  if (params.surface.blend) add_joints(model, params.surface, mesh.stems);
+  TreeMesh mesh;
+  if (params.surface.blend) {
+    const std::vector<JointPlan> plans = plan_hart_baker_joints(model, params.surface);
+    const TreeModel ringed = with_joint_rings(model, plans);
+    mesh = make_tree_mesh(ringed, options);
+    add_joints(mesh.stems, ringed, plans, options);
+  } else {
+    mesh = make_tree_mesh(model, options);
+  }
   append_mesh(mesh.stems, hart_baker_bark(model, params));
   return mesh;
 }

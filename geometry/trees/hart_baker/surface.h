@@ -43,9 +43,52 @@ float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const Blend
 // are the field's gradient. Every edge is shared by exactly two triangles.
 TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint& joint, float half_m, int cells);
 
+// Where a stitched joint opens one of its limbs (docs/hart_baker.md "Blended joints"): the joint
+// mesh is cut by the plane through `origin` facing `normal` (away from the node) within `radius_m`
+// of the limb's axis, and the limb's tube starts again, `gap_m` further out, at the ring of the
+// section `ring_arc_m` along `stem` (with_joint_rings adds it). The band between the two is the
+// stitch.
+struct JointCut {
+  int32_t stem = -1;
+  float ring_arc_m = 0;
+  bool toward_tip = true;  // the limb leaves the node toward the stem's tip (false: its base)
+  Vec3 origin{0.0f};
+  Vec3 normal{0.0f, 0.0f, 1.0f};
+  float radius_m = 0;
+  float gap_m = 0;
+  std::vector<uint32_t> loop;  // the joint mesh's open boundary there, in order around the limb
+};
+
+// A blended joint at the tip of stem `node`. A stitched joint is the only surface between the
+// node and its cuts: its mesh is open at the cuts, the tubes of `inside` are dropped whole and the
+// cut stems' tubes from the node to their rings. Otherwise (limbs too short to leave the cube,
+// another joint's limbs in the way, a cut that is not one clean ring) the joint is the closed
+// mesh of every cone near the node, drawn over the tubes.
+struct JointPlan {
+  int32_t node = -1;
+  BlendJoint joint{};
+  float half_m = 0;
+  int cells = 0;
+  std::vector<BlendCone> cones;  // the field's cones
+  bool stitched = false;
+  std::vector<JointCut> cuts;
+  std::vector<int32_t> inside;
+  TriangleMesh mesh;  // the polygonised joint, open at the cuts when stitched
+};
+
+// The blended joints of a Hart–Baker TreeModel: one per node whose thickest lateral is at least
+// `surface.joint_min_radius_m` thick, polygonised, and opened at its cuts where it is stitched.
+std::vector<JointPlan> plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface);
+
+// The model with a section added at every stitched cut's ring (on the straight piece of the stem
+// that holds it), so the shared mesher makes a ring there.
+TreeModel with_joint_rings(const TreeModel& model, std::span<const JointPlan> plans);
+
 // A Hart–Baker TreeModel (hart_baker_tree_model) as a TreeMesh: the shared mesher's tubes and
-// leaves, a blended joint (polygonise_joint) wherever a lateral at least `surface.joint_min_radius_m`
-// thick leaves its parent, and the bark relief of `params.bark` (hart_baker_bark) on the tubes.
+// leaves, a blended joint (plan_hart_baker_joints) wherever a lateral at least
+// `surface.joint_min_radius_m` thick leaves its parent — stitched to the tubes, which are trimmed
+// inside it, as one surface where it can be — and the bark relief of `params.bark`
+// (hart_baker_bark) on the tubes.
 TreeMesh make_hart_baker_mesh(const TreeModel& model, const HartBakerParams& params,
                               const TreeMeshOptions& options = {});
 
