@@ -38,9 +38,9 @@ float segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
   return glm::length(x - (a + ab * t));
 }
 
-}  // namespace
-
-float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const BlendJoint& joint) {
+// blended_cones with the union taken from `pieces` (the same limbs, section by section).
+float blend_field(const Vec3& x, std::span<const BlendCone> cones, std::span<const BlendCone> pieces,
+                  const BlendJoint& joint) {
   // The paper blends the two nearest cones; where three or more limbs meet, which two are nearest
   // changes abruptly and so would the field. The pairwise blends' minimum is continuous and is the
   // paper's blend wherever one pair is the nearest by far.
@@ -48,9 +48,10 @@ float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const Blend
   std::array<ConeDistance, kMost> near{};
   const size_t n = std::min(cones.size(), kMost);
   float f1 = std::numeric_limits<float>::infinity();
-  for (size_t i = 0; i < n; ++i) {
-    near[i] = cone_distance(x, cones[i]);
-    f1 = std::min(f1, near[i].d - near[i].r);
+  for (size_t i = 0; i < n; ++i) near[i] = cone_distance(x, cones[i]);
+  for (const BlendCone& c : pieces) {
+    const ConeDistance cd = cone_distance(x, c);
+    f1 = std::min(f1, cd.d - cd.r);
   }
   const float s = std::max(0.0f, 1.0f - glm::length(x - joint.centre) / joint.reach_m);
   const float reach = joint.fillet_m * s * s;
@@ -72,24 +73,35 @@ float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const Blend
   return std::min(f1, std::max(blend, f1 - reach));
 }
 
-TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint& joint, float half_m, int cells) {
+}  // namespace
+
+float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const BlendJoint& joint) {
+  return blend_field(x, cones, cones.subspan(0, std::min<size_t>(cones.size(), 16)), joint);
+}
+
+namespace {
+
+// Marching tetrahedra over the box of `cells` cells of side h from `lo` (polygonise_joint).
+template <class Field>
+TriangleMesh polygonise_box(const Field& field_at, const Vec3& lo, const glm::ivec3& cells, float h) {
   // Grid points 0..n, the outer layer (0 and n) forced outside so the surface closes.
-  const int n = cells + 2;
-  const float h = 2 * half_m / static_cast<float>(cells);
-  const Vec3 origin = joint.centre - Vec3(half_m + h);
-  const int side = n + 1;
-  auto index = [&](int i, int j, int k) { return (static_cast<size_t>(k) * side + j) * side + i; };
+  const glm::ivec3 n = cells + 2;
+  const Vec3 origin = lo - Vec3(h);
+  auto index = [&](int i, int j, int k) {
+    return (static_cast<size_t>(k) * static_cast<size_t>(n.y + 1) + static_cast<size_t>(j)) *
+               static_cast<size_t>(n.x + 1) +
+           static_cast<size_t>(i);
+  };
   auto position = [&](int i, int j, int k) { return origin + h * Vec3(i, j, k); };
-  std::vector<float> field(static_cast<size_t>(side) * side * side);
+  std::vector<float> field(static_cast<size_t>(n.x + 1) * static_cast<size_t>(n.y + 1) * static_cast<size_t>(n.z + 1));
   std::vector<uint8_t> border(field.size());
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        const bool outer = i == 0 || j == 0 || k == 0 || i == n || j == n || k == n;
+  for (int k = 0; k <= n.z; ++k)
+    for (int j = 0; j <= n.y; ++j)
+      for (int i = 0; i <= n.x; ++i) {
+        const bool outer = i == 0 || j == 0 || k == 0 || i == n.x || j == n.y || k == n.z;
         border[index(i, j, k)] = outer;
-        field[index(i, j, k)] = outer ? h : blended_cones(position(i, j, k), cones, joint);
+        field[index(i, j, k)] = outer ? h : field_at(position(i, j, k));
       }
-  auto field_at = [&](const Vec3& x) { return blended_cones(x, cones, joint); };
 
   TriangleMesh mesh;
   std::unordered_map<uint64_t, uint32_t> edge_vertex;
@@ -140,9 +152,9 @@ TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint
       {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}};
   static constexpr std::array<std::array<int, 4>, 6> kTet = {
       {{0, 5, 1, 6}, {0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}}};
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
+  for (int k = 0; k < n.z; ++k)
+    for (int j = 0; j < n.y; ++j)
+      for (int i = 0; i < n.x; ++i) {
         std::array<size_t, 8> id;
         std::array<Vec3, 8> pos;
         int inside = 0;
@@ -189,6 +201,14 @@ TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint
         }
       }
   return mesh;
+}
+
+}  // namespace
+
+TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint& joint, float half_m, int cells) {
+  const float h = 2 * half_m / static_cast<float>(cells);
+  return polygonise_box([&](const Vec3& x) { return blended_cones(x, cones, joint); }, joint.centre - Vec3(half_m),
+                        glm::ivec3(cells), h);
 }
 
 namespace {
@@ -262,10 +282,21 @@ void respace(std::vector<float>& angles, float circumference, float spacing) {
   }
 }
 
-// The blended joints: one per node whose thickest lateral reaches the threshold.
+// A node with a blended joint.
+struct NodeJoint {
+  int32_t stem;  // the joint sits at its tip
+  BlendJoint joint;
+  float half;     // the closed joint's cube: half-size,
+  int cells;      // cells across
+  float cell;     // and their size
+  float lateral;  // the thickest lateral's base radius
+  float far;      // how far out its limbs are cut at least
+};
+
 struct PathWalk {
-  bool ok = false;
-  std::vector<int32_t> stems;  // from the node outward, the ring's stem last
+  enum class End { Cut, Member, Other, Fails } end = End::Fails;
+  int32_t met = -1;            // the joint met (Member, Other)
+  std::vector<int32_t> stems;  // from the node outward; for a cut, the ring's stem last
   float ring_arc = 0;
   Vec3 ring{0.0f};
   Vec3 dir{0.0f};  // the axis at the ring, away from the node
@@ -273,18 +304,31 @@ struct PathWalk {
 };
 
 // Follows a limb away from a node — from `start`'s base toward its tip (up) or from its tip toward
-// its base (down), on through yearly continuations — for `distance` metres along the sections,
-// and places a ring there (on an existing section within `snap`). Fails where the limb ends first,
-// turns into a lateral's base, passes another joint's node or a dead stem.
+// its base (down), on through yearly continuations — and places a ring `distance` metres out
+// along the sections (on an existing section within `snap`), then looks on up to `ahead` metres
+// further for another joint's node: one of the cluster's (`member`) makes the whole stretch inside
+// the cluster (End::Member); another joint met before both joints' cuts (End::Other) has to join
+// the cluster. Fails where the limb ends before the ring or turns into a lateral's base.
 PathWalk walk_limb(const TreeModel& model, const std::vector<std::vector<int32_t>>& children,
-                   const std::vector<uint8_t>& joint_at, int32_t start, bool up, float distance, float snap) {
+                   const std::vector<int32_t>& joint_of, const std::vector<NodeJoint>& nodes,
+                   const std::vector<uint8_t>& member, int32_t start, bool up, float distance, float ahead,
+                   float snap) {
   PathWalk w;
   const StemSections& sec = model.sections;
+  bool placed = false;
+  size_t ring_stems = 0;
   float walked = 0;
+  auto finish = [&]() {
+    if (placed) {
+      w.end = PathWalk::End::Cut;
+      w.stems.resize(ring_stems);
+    }
+    return w;
+  };
   int32_t s = start;
   while (true) {
     const size_t su = static_cast<size_t>(s);
-    if (model.stems.is_dead(su)) return w;
+    if (model.stems.is_dead(su)) return finish();
     w.stems.push_back(s);
     const uint32_t first = model.stems.first_section[su];
     const uint32_t count = model.stems.section_count[su];
@@ -292,40 +336,60 @@ PathWalk walk_limb(const TreeModel& model, const std::vector<std::vector<int32_t
       const uint32_t a = up ? first + k - 1 : first + count - k;
       const uint32_t b = up ? a + 1 : a - 1;
       const float len = glm::length(sec.positions[b] - sec.positions[a]);
-      if (walked + len < distance) {
-        walked += len;
-        continue;
+      if (!placed && walked + len >= distance && len > 0) {
+        float t = (distance - walked) / len;
+        if ((1 - t) * len < snap)
+          t = 1;
+        else if (t * len < snap && walked > 0)
+          t = 0;
+        w.ring_arc = t == 0 ? sec.arc_m[a] : t == 1 ? sec.arc_m[b] : sec.arc_m[a] + (sec.arc_m[b] - sec.arc_m[a]) * t;
+        w.ring = sec.positions[a] + (sec.positions[b] - sec.positions[a]) * t;
+        w.radius = sec.radius_m[a] + (sec.radius_m[b] - sec.radius_m[a]) * t;
+        w.dir = (sec.positions[b] - sec.positions[a]) / len;
+        if (w.radius <= 1e-6f) return w;
+        placed = true;
+        ring_stems = w.stems.size();
       }
-      float t = len > 0 ? (distance - walked) / len : 0.0f;
-      if ((1 - t) * len < snap)
-        t = 1;
-      else if (t * len < snap && walked > 0)
-        t = 0;
-      w.ring_arc = t == 0 ? sec.arc_m[a] : t == 1 ? sec.arc_m[b] : sec.arc_m[a] + (sec.arc_m[b] - sec.arc_m[a]) * t;
-      w.ring = sec.positions[a] + (sec.positions[b] - sec.positions[a]) * t;
-      w.radius = sec.radius_m[a] + (sec.radius_m[b] - sec.radius_m[a]) * t;
-      w.dir = len > 0 ? (sec.positions[b] - sec.positions[a]) / len : Vec3(0, 0, up ? 1 : -1);
-      w.ok = len > 0;
-      return w;
+      walked += len;
+      if (placed && walked >= distance + ahead) return finish();
+    }
+    // The node at this end of the stem.
+    const int32_t node = up ? s : model.stems.parent[su];
+    if (node < 0) return finish();
+    if (const int32_t j = joint_of[static_cast<size_t>(node)]; j >= 0) {
+      const bool inside = member[static_cast<size_t>(j)] != 0;
+      if (inside || walked < distance + nodes[static_cast<size_t>(j)].far) {
+        w.end = inside ? PathWalk::End::Member : PathWalk::End::Other;
+        w.met = j;
+        return w;
+      }
+      return finish();
     }
     if (up) {
-      if (joint_at[su]) return w;
       int32_t next = -1;
       for (const int32_t c : children[su])
         if (!is_lateral(model, static_cast<size_t>(c))) next = c;
-      if (next < 0) return w;
+      if (next < 0) return finish();
       s = next;
     } else {
-      const int32_t p = model.stems.parent[su];
-      if (p < 0 || is_lateral(model, su) || joint_at[static_cast<size_t>(p)]) return w;
-      s = p;
+      if (is_lateral(model, su)) return finish();
+      s = node;
     }
   }
 }
 
-// The field's gradient by central differences.
-Vec3 field_gradient(const Vec3& p, std::span<const BlendCone> cones, const BlendJoint& joint, float e) {
-  auto f = [&](const Vec3& x) { return blended_cones(x, cones, joint); };
+// The field of a joint plan: its joints' blends of its cones, the least.
+float plan_field(const Vec3& x, std::span<const BlendCone> cones, std::span<const BlendCone> pieces,
+                 std::span<const BlendJoint> joints) {
+  float f = std::numeric_limits<float>::infinity();
+  for (const BlendJoint& j : joints)
+    f = std::min(f, pieces.empty() ? blended_cones(x, cones, j) : blend_field(x, cones, pieces, j));
+  return f;
+}
+
+// A field's gradient by central differences (not divided by the step).
+template <class Field>
+Vec3 field_gradient(const Field& f, const Vec3& p, float e) {
   return Vec3(f(p + Vec3(e, 0, 0)) - f(p - Vec3(e, 0, 0)), f(p + Vec3(0, e, 0)) - f(p - Vec3(0, e, 0)),
               f(p + Vec3(0, 0, e)) - f(p - Vec3(0, 0, e)));
 }
@@ -341,8 +405,8 @@ float angle_about(const Vec3& p, const Vec3& centre, const Vec3& axis, const Vec
 // are moved onto the field's zero set within the plane, given the field's gradient as normal, and
 // returned in order around the limb. False (mesh untouched) when the cut is not clean: something
 // else crosses the cylinder beyond the plane, or the boundary is not one loop around the axis.
-bool open_joint(TriangleMesh& mesh, JointCut& cut, std::span<const BlendCone> cones, const BlendJoint& joint,
-                float cell) {
+template <class Field>
+bool open_joint(TriangleMesh& mesh, JointCut& cut, const Field& field, float cell) {
   const Vec3 u = cut.normal;
   const size_t nv = mesh.positions.size();
   std::vector<float> d(nv);
@@ -409,8 +473,8 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, std::span<const BlendCone> co
   for (const uint32_t v : loop) {
     Vec3 x = out.positions[v];
     for (int it = 0; it < 6; ++it) {
-      const float f = blended_cones(x, cones, joint);
-      Vec3 g = field_gradient(x, cones, joint, e) / (2 * e);
+      const float f = field(x);
+      Vec3 g = field_gradient(field, x, e) / (2 * e);
       g -= u * glm::dot(g, u);
       const float g2 = glm::dot(g, g);
       if (g2 < 1e-12f || std::abs(f) < 1e-7f) break;
@@ -420,7 +484,7 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, std::span<const BlendCone> co
         glm::length((x - cut.origin) - u * glm::dot(x - cut.origin, u)) >= cut.radius_m)
       return false;
     out.positions[v] = x;
-    const Vec3 g = field_gradient(x, cones, joint, e);
+    const Vec3 g = field_gradient(field, x, e);
     out.normals[v] = glm::length(g) > 0 ? glm::normalize(g) : out.normals[v];
   }
   // Once around the axis, in one direction.
@@ -443,7 +507,7 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, std::span<const BlendCone> co
 }
 
 // The cones near a node, the node's own limbs first (blended_cones reads at most 16): the field of
-// a joint drawn over the tubes.
+// a joint drawn closed over the tubes.
 std::vector<BlendCone> cones_near(const TreeModel& model, const std::vector<StemCone>& cones,
                                   const std::vector<std::vector<int32_t>>& children, size_t p, const Vec3& centre,
                                   float half) {
@@ -460,56 +524,101 @@ std::vector<BlendCone> cones_near(const TreeModel& model, const std::vector<Stem
   return nearby;
 }
 
-// Plans a joint as one surface with the tubes (docs/hart_baker.md "Blended joints"): the field of
-// the node's limbs followed out of the blend — the parent down, each child (at least half a cell
-// thick) up — each cut where the blend has faded and no other limb is within two cells, a ring
-// 1.5 cells further out, the cube grown to hold the cuts, and the mesh opened at each cut.
-bool stitch_joint(JointPlan& plan, const TreeModel& model, const std::vector<std::vector<int32_t>>& children,
-                  const std::vector<uint8_t>& joint_at, const std::vector<StemCone>& cones, float lateral, float half0,
-                  int cells0) {
-  const size_t p = static_cast<size_t>(plan.node);
-  const BlendJoint& joint = plan.joint;
-  const float h = 2 * half0 / static_cast<float>(cells0);
+// The closed joint of one node, drawn over the tubes.
+JointPlan closed_joint(const TreeModel& model, const std::vector<StemCone>& cones,
+                       const std::vector<std::vector<int32_t>>& children, const NodeJoint& node) {
+  JointPlan plan;
+  plan.nodes = {node.stem};
+  plan.joints = {node.joint};
+  plan.lo = node.joint.centre - Vec3(node.half);
+  plan.hi = node.joint.centre + Vec3(node.half);
+  plan.cell_m = node.cell;
+  plan.cones = cones_near(model, cones, children, static_cast<size_t>(node.stem), node.joint.centre, node.half);
+  plan.mesh = polygonise_joint(plan.cones, node.joint, node.half, node.cells);
+  return plan;
+}
+
+// How a cluster of joints is laid out as one surface with the tubes.
+struct ClusterLayout {
+  enum class Result { Ok, Join, Fails } result = Result::Fails;
+  int32_t join = -1;  // the joint to take into the cluster (Join)
+  std::vector<int32_t> field;
+  std::vector<JointCut> cuts;
+  std::vector<int32_t> inside;
+  Vec3 lo{0.0f}, hi{0.0f};
+  float cell = 0;
+};
+
+// Lays out a cluster of joints (docs/hart_baker.md "Blended joints"): every limb at its nodes (the
+// parent down, each child at least half a cell thick up) is followed out of the blends, through
+// the stretches joining two of its nodes, and cut where every blend has faded and no other limb
+// is within two cells, with a ring 1.5 cells further out; the box holds the nodes' cubes, the
+// limbs inside and the cuts.
+ClusterLayout layout_cluster(const std::vector<size_t>& members, const TreeModel& model,
+                             const std::vector<std::vector<int32_t>>& children, const std::vector<int32_t>& joint_of,
+                             const std::vector<NodeJoint>& nodes, const std::vector<StemCone>& cones, float ahead) {
+  using Result = ClusterLayout::Result;
+  ClusterLayout out;
+  float h = std::numeric_limits<float>::infinity();
+  std::vector<uint8_t> member(nodes.size(), 0);
+  for (const size_t j : members) {
+    h = std::min(h, nodes[j].cell);
+    member[j] = 1;
+  }
   struct Limb {
     int32_t start;
     bool up;
+    size_t node;
     float cut;
     PathWalk walk;
   };
-  std::vector<Limb> limbs{{plan.node, false, 0.0f, {}}};
-  bool thickest = false;
-  for (const int32_t c : children[p]) {
-    const float r = cones[static_cast<size_t>(c)].cone.base_radius_m;
-    if (r < 0.5f * h) continue;  // drawn by its tube alone
-    limbs.push_back({c, true, 0.0f, {}});
-    thickest = thickest || (is_lateral(model, static_cast<size_t>(c)) && r == lateral);
+  std::vector<Limb> limbs;
+  for (const size_t j : members) {
+    const size_t p = static_cast<size_t>(nodes[j].stem);
+    limbs.push_back({nodes[j].stem, false, j, 0.0f, {}});
+    bool thickest = false;
+    for (const int32_t c : children[p]) {
+      const float r = cones[static_cast<size_t>(c)].cone.base_radius_m;
+      if (r < 0.5f * h) continue;  // drawn by its tube alone
+      limbs.push_back({c, true, j, 0.0f, {}});
+      thickest = thickest || (is_lateral(model, static_cast<size_t>(c)) && r == nodes[j].lateral);
+    }
+    if (!thickest) return out;
   }
-  if (!thickest) return false;
   const float gap = 1.5f * h;
-  for (Limb& l : limbs) l.cut = joint.reach_m + 0.5f * h;
+  for (Limb& l : limbs) l.cut = nodes[l.node].joint.reach_m + 0.5f * h;
   constexpr int kRounds = 8;
   for (int round = 0;; ++round) {
     for (Limb& l : limbs) {
-      l.walk = walk_limb(model, children, joint_at, l.start, l.up, l.cut + gap, 0.25f * h);
-      if (!l.walk.ok) return false;
+      l.walk = walk_limb(model, children, joint_of, nodes, member, l.start, l.up, l.cut + gap, ahead, 0.25f * h);
+      if (l.walk.end == PathWalk::End::Fails) return out;
+      if (l.walk.end == PathWalk::End::Other) {
+        out.result = Result::Join;
+        out.join = l.walk.met;
+        return out;
+      }
     }
-    // Push a cut out while its ring is in the blend or within two cells of another limb.
+    // Push a cut out while its ring is in a blend or within two cells of another limb.
     bool moved = false;
     for (size_t i = 0; i < limbs.size(); ++i) {
       Limb& l = limbs[i];
+      if (l.walk.end != PathWalk::End::Cut) continue;
       const Vec3 o = l.walk.ring - l.walk.dir * gap;
       const Frame f = Frame::from_z(l.walk.dir);
       bool clear = true;
       for (int k = 0; k < 16 && clear; ++k) {
         const float a = 2 * kPi * static_cast<float>(k) / 16;
         const Vec3 x = o + l.walk.radius * (std::cos(a) * f.x + std::sin(a) * f.y);
-        clear = glm::length(x - joint.centre) >= joint.reach_m;
-        for (size_t j = 0; j < limbs.size() && clear; ++j)
-          if (j != i)
-            for (const int32_t s : limbs[j].walk.stems) {
-              const ConeDistance cd = cone_distance(x, cones[static_cast<size_t>(s)].cone);
-              if (cd.d - cd.r < 2 * h) clear = false;
-            }
+        for (const size_t j : members)
+          if (glm::length(x - nodes[j].joint.centre) < nodes[j].joint.reach_m) clear = false;
+        for (size_t m = 0; m < limbs.size() && clear; ++m) {
+          if (m == i) continue;
+          for (const int32_t s : limbs[m].walk.stems) {
+            if (std::find(l.walk.stems.begin(), l.walk.stems.end(), s) != l.walk.stems.end()) continue;
+            const ConeDistance cd = cone_distance(x, cones[static_cast<size_t>(s)].cone);
+            if (cd.d - cd.r < 2 * h) clear = false;
+          }
+        }
       }
       if (!clear) {
         l.cut += h;
@@ -517,14 +626,31 @@ bool stitch_joint(JointPlan& plan, const TreeModel& model, const std::vector<std
       }
     }
     if (!moved) break;
-    if (round == kRounds) return false;
+    if (round == kRounds) return out;
   }
-  std::vector<BlendCone> field;
-  std::vector<JointCut> cuts;
-  std::vector<int32_t> inside;
+  std::vector<uint8_t> in_field(model.stems.size(), 0), in_side(model.stems.size(), 0);
   for (const Limb& l : limbs) {
-    for (const int32_t s : l.walk.stems) field.push_back(cones[static_cast<size_t>(s)].cone);
-    inside.insert(inside.end(), l.walk.stems.begin(), l.walk.stems.end() - 1);
+    for (const int32_t s : l.walk.stems)
+      if (!in_field[static_cast<size_t>(s)]++) out.field.push_back(s);
+    const size_t whole = l.walk.stems.size() - (l.walk.end == PathWalk::End::Cut ? 1 : 0);
+    for (size_t k = 0; k < whole; ++k)
+      if (!in_side[static_cast<size_t>(l.walk.stems[k])]++) out.inside.push_back(l.walk.stems[k]);
+  }
+  if (out.field.size() > 16) return out;
+  out.lo = Vec3(std::numeric_limits<float>::infinity());
+  out.hi = -out.lo;
+  for (const size_t j : members) {
+    out.lo = glm::min(out.lo, nodes[j].joint.centre - Vec3(nodes[j].half));
+    out.hi = glm::max(out.hi, nodes[j].joint.centre + Vec3(nodes[j].half));
+  }
+  for (const int32_t s : out.inside) {
+    out.lo = glm::min(out.lo, cones[static_cast<size_t>(s)].lo - Vec3(2 * h));
+    out.hi = glm::max(out.hi, cones[static_cast<size_t>(s)].hi + Vec3(2 * h));
+  }
+  for (const Limb& l : limbs) {
+    if (l.walk.end != PathWalk::End::Cut) continue;
+    // A ring on a stem another limb runs through whole would be trimmed away.
+    if (in_side[static_cast<size_t>(l.walk.stems.back())]) return out;
     JointCut cut;
     cut.stem = l.walk.stems.back();
     cut.ring_arc_m = l.walk.ring_arc;
@@ -533,26 +659,45 @@ bool stitch_joint(JointPlan& plan, const TreeModel& model, const std::vector<std
     cut.normal = l.walk.dir;
     cut.radius_m = 1.25f * l.walk.radius + h;
     cut.gap_m = gap;
-    cuts.push_back(std::move(cut));
-  }
-  if (field.size() > 16) return false;
-  // The cube holds every cut's cylinder with two cells to spare, in cells of the same size.
-  float half = half0;
-  for (const JointCut& c : cuts)
+    // The box holds the cut's cylinder with two cells to spare.
     for (int a = 0; a < 3; ++a) {
-      const float across = c.radius_m * std::sqrt(std::max(0.0f, 1 - c.normal[a] * c.normal[a]));
-      half = std::max(half, std::abs(c.origin[a] - joint.centre[a]) + across + 2 * h);
+      const float across = cut.radius_m * std::sqrt(std::max(0.0f, 1 - cut.normal[a] * cut.normal[a])) + 2 * h;
+      out.lo[a] = std::min(out.lo[a], cut.origin[a] - across);
+      out.hi[a] = std::max(out.hi[a], cut.origin[a] + across);
     }
-  const int cells = std::max(cells0, static_cast<int>(std::ceil(2 * half / h)));
-  TriangleMesh mesh = polygonise_joint(field, joint, half, cells);
-  const float cell = 2 * half / static_cast<float>(cells);
+    out.cuts.push_back(std::move(cut));
+  }
+  out.cell = h;
+  out.result = Result::Ok;
+  return out;
+}
+
+// Polygonises a laid-out cluster and opens it at its cuts; false when a cut is not clean or the
+// box is too large.
+bool mesh_cluster(JointPlan& plan, const ClusterLayout& layout, const TreeModel& model,
+                  const std::vector<StemCone>& cones) {
+  const glm::ivec3 cells = glm::ivec3(glm::ceil((layout.hi - layout.lo) / layout.cell));
+  if (static_cast<double>(cells.x) * cells.y * cells.z > 8e6) return false;
+  // Each limb as its tube's sections, so that where the joint is cut it is the tube's surface
+  // (the sections follow the reaction-wood offsets, which a cone from base to tip does not).
+  const StemSections& sec = model.sections;
+  for (const int32_t s : layout.field) {
+    const uint32_t first = model.stems.first_section[static_cast<size_t>(s)];
+    const uint32_t count = model.stems.section_count[static_cast<size_t>(s)];
+    plan.cones.push_back(cones[static_cast<size_t>(s)].cone);
+    for (uint32_t k = first; k + 1 < first + count; ++k)
+      plan.pieces.push_back({sec.positions[k], sec.positions[k + 1], sec.radius_m[k], sec.radius_m[k + 1]});
+  }
+  auto field = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, plan.joints); };
+  TriangleMesh mesh = polygonise_box(field, layout.lo, cells, layout.cell);
+  std::vector<JointCut> cuts = layout.cuts;
   for (JointCut& c : cuts)
-    if (!open_joint(mesh, c, field, joint, cell)) return false;
-  plan.cones = std::move(field);
-  plan.half_m = half;
-  plan.cells = cells;
+    if (!open_joint(mesh, c, field, layout.cell)) return false;
+  plan.lo = layout.lo;
+  plan.hi = layout.lo + Vec3(cells) * layout.cell;
+  plan.cell_m = layout.cell;
   plan.cuts = std::move(cuts);
-  plan.inside = std::move(inside);
+  plan.inside = layout.inside;
   plan.mesh = std::move(mesh);
   plan.stitched = true;
   return true;
@@ -689,75 +834,108 @@ void add_joints(TriangleMesh& stems, const TreeModel& ringed, const std::vector<
 }  // namespace
 
 std::vector<JointPlan> plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface) {
-  std::vector<JointPlan> plans;
   const size_t count = model.stems.size();
   std::vector<StemCone> cones(count);
   for (size_t s = 0; s < count; ++s) cones[s] = stem_cone(model, s);
   const std::vector<std::vector<int32_t>> children = stem_children(model);
-  std::vector<float> lateral(count, 0.0f);
-  std::vector<uint8_t> joint_at(count, 0);
+  std::vector<int32_t> joint_of(count, -1);
+  std::vector<NodeJoint> nodes;
+  float ahead = 0;
   for (size_t p = 0; p < count; ++p) {
+    float lateral = 0;
     for (const int32_t c : children[p])
       if (is_lateral(model, static_cast<size_t>(c)))
-        lateral[p] = std::max(lateral[p], cones[static_cast<size_t>(c)].cone.base_radius_m);
-    joint_at[p] = lateral[p] > 0 && lateral[p] >= surface.joint_min_radius_m;
-  }
-  struct Closed {
-    float half;
-    int cells;
-  };
-  std::vector<Closed> closed;
-  for (size_t p = 0; p < count; ++p) {
-    if (!joint_at[p]) continue;
-    JointPlan plan;
-    plan.node = static_cast<int32_t>(p);
+        lateral = std::max(lateral, cones[static_cast<size_t>(c)].cone.base_radius_m);
+    if (lateral <= 0 || lateral < surface.joint_min_radius_m) continue;
     const BlendCone& parent = cones[p].cone;
     const float parent_r = parent.tip_radius_m;
-    plan.joint = {parent.tip, surface.reach * std::max(parent_r, lateral[p]), surface.fillet * lateral[p]};
-    const float half = plan.joint.reach_m * 1.1f;
+    NodeJoint n{};
+    n.stem = static_cast<int32_t>(p);
+    n.joint = {parent.tip, surface.reach * std::max(parent_r, lateral), surface.fillet * lateral};
+    n.half = n.joint.reach_m * 1.1f;
     // Cells small enough that the thinnest limb at the node is several cells across.
     float thinnest = parent_r;
     for (const int32_t c : children[p]) thinnest = std::min(thinnest, cones[static_cast<size_t>(c)].cone.base_radius_m);
-    const int cells = std::clamp(static_cast<int>(std::ceil(2 * half / (0.5f * thinnest))), 8, surface.joint_cells);
-    closed.push_back({half, cells});
-    if (!stitch_joint(plan, model, children, joint_at, cones, lateral[p], half, cells)) {
-      plan.cones = cones_near(model, cones, children, p, plan.joint.centre, half);
-      plan.half_m = half;
-      plan.cells = cells;
-      plan.mesh = polygonise_joint(plan.cones, plan.joint, half, cells);
-    }
-    plans.push_back(std::move(plan));
+    n.cells = std::clamp(static_cast<int>(std::ceil(2 * n.half / (0.5f * thinnest))), 8, surface.joint_cells);
+    n.cell = 2 * n.half / static_cast<float>(n.cells);
+    n.lateral = lateral;
+    n.far = n.joint.reach_m + 2 * n.cell;
+    ahead = std::max(ahead, n.far);
+    joint_of[p] = static_cast<int32_t>(nodes.size());
+    nodes.push_back(n);
   }
-  // Two stitched joints may not trim the same stretch of a tube: where they would, both are drawn
-  // closed over the tubes.
-  struct Trim {
-    size_t plan;
-    float lo, hi;
+  // Clusters: joints whose limbs meet before both are cut, or whose trims would overlap, are laid
+  // out together (union–find, the least index the root).
+  std::vector<size_t> root(nodes.size());
+  for (size_t j = 0; j < nodes.size(); ++j) root[j] = j;
+  auto find = [&](size_t j) {
+    while (root[j] != j) j = root[j] = root[root[j]];
+    return j;
   };
-  std::vector<std::vector<Trim>> trims(count);
-  constexpr float kAll = std::numeric_limits<float>::infinity();
-  for (size_t i = 0; i < plans.size(); ++i) {
-    if (!plans[i].stitched) continue;
-    for (const int32_t s : plans[i].inside) trims[static_cast<size_t>(s)].push_back({i, -kAll, kAll});
-    for (const JointCut& c : plans[i].cuts)
-      trims[static_cast<size_t>(c.stem)].push_back(
-          {i, c.toward_tip ? -kAll : c.ring_arc_m, c.toward_tip ? c.ring_arc_m : kAll});
+  auto unite = [&](size_t a, size_t b) {
+    a = find(a), b = find(b);
+    if (a != b) root[std::max(a, b)] = std::min(a, b);
+  };
+  constexpr size_t kMostJoints = 8;
+  std::vector<std::vector<size_t>> members;
+  std::vector<ClusterLayout> layouts;
+  for (bool changed = true; changed;) {
+    changed = false;
+    members.assign(nodes.size(), {});
+    for (size_t j = 0; j < nodes.size(); ++j) members[find(j)].push_back(j);
+    layouts.assign(nodes.size(), ClusterLayout{});
+    for (size_t c = 0; c < nodes.size(); ++c) {
+      if (members[c].empty() || members[c].size() > kMostJoints) continue;
+      layouts[c] = layout_cluster(members[c], model, children, joint_of, nodes, cones, ahead);
+      if (layouts[c].result == ClusterLayout::Result::Join) {
+        unite(c, static_cast<size_t>(layouts[c].join));
+        changed = true;
+      }
+    }
+    if (changed) continue;
+    // Two clusters may not trim the same stretch of a tube.
+    struct Trim {
+      size_t cluster;
+      float lo, hi;
+    };
+    std::vector<std::vector<Trim>> trims(count);
+    constexpr float kAll = std::numeric_limits<float>::infinity();
+    for (size_t c = 0; c < nodes.size(); ++c) {
+      if (layouts[c].result != ClusterLayout::Result::Ok) continue;
+      for (const int32_t s : layouts[c].inside) trims[static_cast<size_t>(s)].push_back({c, -kAll, kAll});
+      for (const JointCut& cut : layouts[c].cuts)
+        trims[static_cast<size_t>(cut.stem)].push_back(
+            {c, cut.toward_tip ? -kAll : cut.ring_arc_m, cut.toward_tip ? cut.ring_arc_m : kAll});
+    }
+    for (const std::vector<Trim>& on : trims)
+      for (size_t a = 0; a < on.size(); ++a)
+        for (size_t b = a + 1; b < on.size(); ++b)
+          if (on[a].cluster != on[b].cluster && on[a].lo <= on[b].hi && on[b].lo <= on[a].hi) {
+            unite(on[a].cluster, on[b].cluster);
+            changed = true;
+          }
   }
-  std::vector<uint8_t> clash(plans.size(), 0);
-  for (const std::vector<Trim>& on : trims)
-    for (size_t a = 0; a < on.size(); ++a)
-      for (size_t b = a + 1; b < on.size(); ++b)
-        if (on[a].plan != on[b].plan && on[a].lo <= on[b].hi && on[b].lo <= on[a].hi)
-          clash[on[a].plan] = clash[on[b].plan] = 1;
-  for (size_t i = 0; i < plans.size(); ++i) {
-    if (!clash[i]) continue;
-    JointPlan& plan = plans[i];
-    const size_t p = static_cast<size_t>(plan.node);
-    plan = JointPlan{plan.node, plan.joint, closed[i].half, closed[i].cells, {}, false, {}, {}, {}};
-    plan.cones = cones_near(model, cones, children, p, plan.joint.centre, plan.half_m);
-    plan.mesh = polygonise_joint(plan.cones, plan.joint, plan.half_m, plan.cells);
+  std::vector<JointPlan> plans;
+  for (size_t c = 0; c < nodes.size(); ++c) {
+    if (members[c].empty()) continue;
+    if (layouts[c].result == ClusterLayout::Result::Ok) {
+      JointPlan plan;
+      for (const size_t j : members[c]) {
+        plan.nodes.push_back(nodes[j].stem);
+        plan.joints.push_back(nodes[j].joint);
+      }
+      if (mesh_cluster(plan, layouts[c], model, cones)) {
+        plans.push_back(std::move(plan));
+        continue;
+      }
+    }
+    for (const size_t j : members[c]) plans.push_back(closed_joint(model, cones, children, nodes[j]));
   }
   return plans;
+}
+
+float joint_plan_field(const JointPlan& plan, const Vec3& x) {
+  return plan_field(x, plan.cones, plan.pieces, plan.joints);
 }
 
 TreeModel with_joint_rings(const TreeModel& model, std::span<const JointPlan> plans) {

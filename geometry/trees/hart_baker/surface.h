@@ -59,22 +59,29 @@ struct JointCut {
   std::vector<uint32_t> loop;  // the joint mesh's open boundary there, in order around the limb
 };
 
-// A blended joint at the tip of stem `node`. A stitched joint is the only surface between the
-// node and its cuts: its mesh is open at the cuts, the tubes of `inside` are dropped whole and the
-// cut stems' tubes from the node to their rings. Otherwise (limbs too short to leave the cube,
-// another joint's limbs in the way, a cut that is not one clean ring) the joint is the closed
-// mesh of every cone near the node, drawn over the tubes.
+// Blended joints meshed together: one node's, or a cluster's whose limbs meet before their blends
+// fade (short yearly segments, whorls). A stitched plan is the only surface between its nodes and
+// its cuts: its mesh is open at the cuts, the tubes of `inside` are dropped whole and the cut
+// stems' tubes from the node side to their rings. Otherwise (a limb too short to leave the blend,
+// a cut that is not one clean ring, more than 16 cones) each node's joint is the closed mesh of
+// every cone near it, drawn over the tubes, in a plan of its own.
 struct JointPlan {
-  int32_t node = -1;
-  BlendJoint joint{};
-  float half_m = 0;
-  int cells = 0;
-  std::vector<BlendCone> cones;  // the field's cones
+  std::vector<int32_t> nodes;      // the stems at whose tips the joints sit
+  std::vector<BlendJoint> joints;  // their blends
+  Vec3 lo{0.0f}, hi{0.0f};         // the polygonised box
+  float cell_m = 0;
+  std::vector<BlendCone> cones;   // the field's cones, one per limb (stem), blended
+  std::vector<BlendCone> pieces;  // stitched: the limbs' tubes section by section, their union
   bool stitched = false;
   std::vector<JointCut> cuts;
   std::vector<int32_t> inside;
-  TriangleMesh mesh;  // the polygonised joint, open at the cuts when stitched
+  TriangleMesh mesh;  // the polygonised joints, open at the cuts when stitched
 };
+
+// A plan's field: the least of its joints' blends (blended_cones) of its cones, where a stitched
+// plan takes the union of the cones from its pieces (so it is the tubes' surface where the blends
+// have faded).
+float joint_plan_field(const JointPlan& plan, const Vec3& x);
 
 // The blended joints of a Hart–Baker TreeModel: one per node whose thickest lateral is at least
 // `surface.joint_min_radius_m` thick, polygonised, and opened at its cuts where it is stitched.
