@@ -38,24 +38,18 @@ float segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
   return glm::length(x - (a + ab * t));
 }
 
-// blended_cones with the union taken from `pieces` (the same limbs, section by section).
-float blend_field(const Vec3& x, std::span<const BlendCone> cones, std::span<const BlendCone> pieces,
-                  const BlendJoint& joint) {
+// blended_cones with the union of the cones given, as f1 (the same limbs, piece by piece).
+float blend_field(const Vec3& x, std::span<const BlendCone> cones, float f1, const BlendJoint& joint) {
   // The paper blends the two nearest cones; where three or more limbs meet, which two are nearest
   // changes abruptly and so would the field. The pairwise blends' minimum is continuous and is the
   // paper's blend wherever one pair is the nearest by far.
-  constexpr size_t kMost = 16;
-  std::array<ConeDistance, kMost> near{};
-  const size_t n = std::min(cones.size(), kMost);
-  float f1 = std::numeric_limits<float>::infinity();
-  for (size_t i = 0; i < n; ++i) near[i] = cone_distance(x, cones[i]);
-  for (const BlendCone& c : pieces) {
-    const ConeDistance cd = cone_distance(x, c);
-    f1 = std::min(f1, cd.d - cd.r);
-  }
   const float s = std::max(0.0f, 1.0f - glm::length(x - joint.centre) / joint.reach_m);
   const float reach = joint.fillet_m * s * s;
   if (reach <= 0) return f1;
+  constexpr size_t kMost = 16;
+  std::array<ConeDistance, kMost> near{};
+  const size_t n = std::min(cones.size(), kMost);
+  for (size_t i = 0; i < n; ++i) near[i] = cone_distance(x, cones[i]);
   float blend = std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < n; ++i)
     for (size_t j = i + 1; j < n; ++j) {
@@ -76,14 +70,27 @@ float blend_field(const Vec3& x, std::span<const BlendCone> cones, std::span<con
 }  // namespace
 
 float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const BlendJoint& joint) {
-  return blend_field(x, cones, cones.subspan(0, std::min<size_t>(cones.size(), 16)), joint);
+  float f1 = std::numeric_limits<float>::infinity();
+  for (size_t i = 0; i < std::min<size_t>(cones.size(), 16); ++i) {
+    const ConeDistance cd = cone_distance(x, cones[i]);
+    f1 = std::min(f1, cd.d - cd.r);
+  }
+  return blend_field(x, cones, f1, joint);
 }
 
 namespace {
 
-// Marching tetrahedra over the box of `cells` cells of side h from `lo` (polygonise_joint).
-template <class Field>
-TriangleMesh polygonise_box(const Field& field_at, const Vec3& lo, const glm::ivec3& cells, float h) {
+// Marching tetrahedra over the box of `cells` cells of side h from `lo` (polygonise_joint), the
+// surface of `field_at`, its normals the gradient of `normal_at`.
+//
+// Only the signs of the grid values decide the triangles, and only values next to a sign change or
+// the border are read again, so far from the surface a block of grid points takes the value at
+// its centre: the field lies between f1 − `fillet` and f1, f1 a union of cones changing by at most
+// 1.5 per metre, so a centre value beyond 1.5 × (the block's reach plus a cell's diagonal) +
+// `fillet` gives the whole block and its neighbours the same sign.
+template <class Field, class Normal>
+TriangleMesh polygonise_box(const Field& field_at, const Normal& normal_at, const Vec3& lo, const glm::ivec3& cells,
+                            float h, float fillet) {
   // Grid points 0..n, the outer layer (0 and n) forced outside so the surface closes.
   const glm::ivec3 n = cells + 2;
   const Vec3 origin = lo - Vec3(h);
@@ -95,12 +102,21 @@ TriangleMesh polygonise_box(const Field& field_at, const Vec3& lo, const glm::iv
   auto position = [&](int i, int j, int k) { return origin + h * Vec3(i, j, k); };
   std::vector<float> field(static_cast<size_t>(n.x + 1) * static_cast<size_t>(n.y + 1) * static_cast<size_t>(n.z + 1));
   std::vector<uint8_t> border(field.size());
-  for (int k = 0; k <= n.z; ++k)
-    for (int j = 0; j <= n.y; ++j)
-      for (int i = 0; i <= n.x; ++i) {
-        const bool outer = i == 0 || j == 0 || k == 0 || i == n.x || j == n.y || k == n.z;
-        border[index(i, j, k)] = outer;
-        field[index(i, j, k)] = outer ? h : field_at(position(i, j, k));
+  constexpr int kBlock = 4;
+  const float far = 1.5f * (0.5f * kBlock + 1) * std::sqrt(3.0f) * h + fillet;
+  for (int bk = 0; bk <= n.z; bk += kBlock)
+    for (int bj = 0; bj <= n.y; bj += kBlock)
+      for (int bi = 0; bi <= n.x; bi += kBlock) {
+        const float centre = field_at(origin + h * (Vec3(bi, bj, bk) + 0.5f * static_cast<float>(kBlock - 1)));
+        const bool uniform = std::abs(centre) > far;
+        for (int k = bk; k <= std::min(bk + kBlock - 1, n.z); ++k)
+          for (int j = bj; j <= std::min(bj + kBlock - 1, n.y); ++j)
+            for (int i = bi; i <= std::min(bi + kBlock - 1, n.x); ++i) {
+              const bool outer = i == 0 || j == 0 || k == 0 || i == n.x || j == n.y || k == n.z;
+              const bool edge = i == 1 || j == 1 || k == 1 || i == n.x - 1 || j == n.y - 1 || k == n.z - 1;
+              border[index(i, j, k)] = outer;
+              field[index(i, j, k)] = outer ? h : uniform && !edge ? centre : field_at(position(i, j, k));
+            }
       }
 
   TriangleMesh mesh;
@@ -118,7 +134,7 @@ TriangleMesh polygonise_box(const Field& field_at, const Vec3& lo, const glm::iv
       int side_kept = 0;
       for (int it = 0; it < 16 && fa != fb; ++it) {
         const float ft = field_at(pa + (pb - pa) * t);
-        if (ft == 0) break;
+        if (std::abs(ft) <= 1e-3f * h) break;  // micrometres: on the surface
         if (ft < 0) {
           ta = t;
           fa = ft;
@@ -135,9 +151,9 @@ TriangleMesh polygonise_box(const Field& field_at, const Vec3& lo, const glm::iv
     }
     const Vec3 p = pa + (pb - pa) * t;
     const float e = 0.05f * h;
-    Vec3 g(field_at(p + Vec3(e, 0, 0)) - field_at(p - Vec3(e, 0, 0)),
-           field_at(p + Vec3(0, e, 0)) - field_at(p - Vec3(0, e, 0)),
-           field_at(p + Vec3(0, 0, e)) - field_at(p - Vec3(0, 0, e)));
+    Vec3 g(normal_at(p + Vec3(e, 0, 0)) - normal_at(p - Vec3(e, 0, 0)),
+           normal_at(p + Vec3(0, e, 0)) - normal_at(p - Vec3(0, e, 0)),
+           normal_at(p + Vec3(0, 0, e)) - normal_at(p - Vec3(0, 0, e)));
     const float gl = glm::length(g);
     const uint32_t v = static_cast<uint32_t>(mesh.positions.size());
     mesh.positions.push_back(p);
@@ -207,8 +223,8 @@ TriangleMesh polygonise_box(const Field& field_at, const Vec3& lo, const glm::iv
 
 TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint& joint, float half_m, int cells) {
   const float h = 2 * half_m / static_cast<float>(cells);
-  return polygonise_box([&](const Vec3& x) { return blended_cones(x, cones, joint); }, joint.centre - Vec3(half_m),
-                        glm::ivec3(cells), h);
+  auto field = [&](const Vec3& x) { return blended_cones(x, cones, joint); };
+  return polygonise_box(field, field, joint.centre - Vec3(half_m), glm::ivec3(cells), h, joint.fillet_m);
 }
 
 namespace {
@@ -378,12 +394,66 @@ PathWalk walk_limb(const TreeModel& model, const std::vector<std::vector<int32_t
   }
 }
 
-// The field of a joint plan: its joints' blends of its cones, the least.
-float plan_field(const Vec3& x, std::span<const BlendCone> cones, std::span<const BlendCone> pieces,
-                 std::span<const BlendJoint> joints) {
+// The signed distance to a tube piece's polygon prism (between its end rings; the round cone's
+// `round` beyond them, where the neighbouring pieces or the joint's caps take over).
+float polygon_distance(const Vec3& x, const TubePiece& p, float round) {
+  if (p.sides < 3) return round;
+  const Vec3 axis = p.cone.tip - p.cone.base;
+  const float len2 = glm::dot(axis, axis);
+  if (len2 <= 0) return round;
+  const float t = glm::dot(x - p.cone.base, axis) / len2;
+  if (t <= 0 || t >= 1) return round;
+  const Vec3 q = x - (p.cone.base + axis * t);
+  const float r = (1 - t) * p.cone.base_radius_m + t * p.cone.tip_radius_m;
+  const float sector = 2 * kPi / static_cast<float>(p.sides);
+  const float a = wrap(std::atan2(glm::dot(q, p.ey), glm::dot(q, p.ex)));
+  const float mid = (std::floor(a / sector) + 0.5f) * sector;
+  return glm::dot(q, std::cos(mid) * p.ex + std::sin(mid) * p.ey) - r * std::cos(0.5f * sector);
+}
+
+// The union of tube pieces: round, or as polygons. A polygon lies inside its circle by at most
+// r (1 − cos(π/sides)), so only pieces that close to the nearest round one are measured as
+// polygons.
+float pieces_union(const Vec3& x, std::span<const TubePiece> pieces, bool round) {
+  constexpr size_t kKept = 64;
+  std::array<float, kKept> kept{};
+  float least = std::numeric_limits<float>::infinity(), bound = least;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const TubePiece& p = pieces[i];
+    const ConeDistance cd = cone_distance(x, p.cone);
+    const float f = cd.d - cd.r;
+    if (i < kKept) kept[i] = f;
+    least = std::min(least, f);
+    // 1 − cos a ≤ a²/2.
+    const float a = p.sides >= 3 ? kPi / static_cast<float>(p.sides) : 0.0f;
+    const float sag = std::max(p.cone.base_radius_m, p.cone.tip_radius_m) * 0.5f * a * a;
+    bound = std::min(bound, f + sag);
+  }
+  if (round) return least;
   float f = std::numeric_limits<float>::infinity();
-  for (const BlendJoint& j : joints)
-    f = std::min(f, pieces.empty() ? blended_cones(x, cones, j) : blend_field(x, cones, pieces, j));
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    float r = 0;
+    if (i < kKept) {
+      r = kept[i];
+    } else {
+      const ConeDistance cd = cone_distance(x, pieces[i].cone);
+      r = cd.d - cd.r;
+    }
+    if (r <= bound) f = std::min(f, polygon_distance(x, pieces[i], r));
+  }
+  return f;
+}
+
+// The field of a joint plan: its joints' blends of its cones, the least (JointPlan).
+float plan_field(const Vec3& x, std::span<const BlendCone> cones, std::span<const TubePiece> pieces,
+                 std::span<const BlendJoint> joints, bool round) {
+  float f = std::numeric_limits<float>::infinity();
+  if (pieces.empty()) {
+    for (const BlendJoint& j : joints) f = std::min(f, blended_cones(x, cones, j));
+    return f;
+  }
+  const float f1 = pieces_union(x, pieces, round);
+  for (const BlendJoint& j : joints) f = std::min(f, blend_field(x, cones, f1, j));
   return f;
 }
 
@@ -405,8 +475,8 @@ float angle_about(const Vec3& p, const Vec3& centre, const Vec3& axis, const Vec
 // are moved onto the field's zero set within the plane, given the field's gradient as normal, and
 // returned in order around the limb. False (mesh untouched) when the cut is not clean: something
 // else crosses the cylinder beyond the plane, or the boundary is not one loop around the axis.
-template <class Field>
-bool open_joint(TriangleMesh& mesh, JointCut& cut, const Field& field, float cell) {
+template <class Field, class Normal>
+bool open_joint(TriangleMesh& mesh, JointCut& cut, const Field& field, const Normal& normal_at, float cell) {
   const Vec3 u = cut.normal;
   const size_t nv = mesh.positions.size();
   std::vector<float> d(nv);
@@ -484,23 +554,24 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, const Field& field, float cel
         glm::length((x - cut.origin) - u * glm::dot(x - cut.origin, u)) >= cut.radius_m)
       return false;
     out.positions[v] = x;
-    const Vec3 g = field_gradient(field, x, e);
+    const Vec3 g = field_gradient(normal_at, x, e);
     out.normals[v] = glm::length(g) > 0 ? glm::normalize(g) : out.normals[v];
   }
-  // Once around the axis, in one direction.
+  // Once around the axis, in one direction (a vertex may fall back a little where marching
+  // tetrahedra left two crossings close together; the band's walk tolerates that).
   const Vec3 e0 = Frame::from_z(u).x;
+  std::vector<float> steps(loop.size());
   float turned = 0;
-  int sign = 0;
   for (size_t i = 0; i < loop.size(); ++i) {
     const float a = angle_about(out.positions[loop[i]], cut.origin, u, e0);
     const float b = angle_about(out.positions[loop[(i + 1) % loop.size()]], cut.origin, u, e0);
-    const float step = std::remainder(b - a, 2 * kPi);
-    const int s = step > 0 ? 1 : -1;
-    if (sign != 0 && s != sign) return false;
-    sign = s;
-    turned += step;
+    steps[i] = std::remainder(b - a, 2 * kPi);
+    turned += steps[i];
   }
   if (std::abs(std::abs(turned) - 2 * kPi) > 0.1f) return false;
+  const float back = 0.5f * 2 * kPi / static_cast<float>(loop.size());
+  for (const float step : steps)
+    if (step * turned < 0 && std::abs(step) > back) return false;
   cut.loop = std::move(loop);
   mesh = std::move(out);
   return true;
@@ -672,27 +743,78 @@ ClusterLayout layout_cluster(const std::vector<size_t>& members, const TreeModel
   return out;
 }
 
+// The reference axis of each of a stem's rings, as the shared mesher transports it (make_tree_mesh:
+// the first along the stem's first frame, then projected across each ring's axis, which bisects
+// the pieces meeting there).
+std::vector<Vec3> ring_axes(const TreeModel& model, size_t s) {
+  auto safe_normalize = [](const Vec3& v, const Vec3& fallback) {
+    const float l = glm::length(v);
+    return l > 1e-12f ? v / l : fallback;
+  };
+  const StemSections& sec = model.sections;
+  const uint32_t first = model.stems.first_section[s];
+  const uint32_t count = model.stems.section_count[s];
+  std::vector<Vec3> axes(count);
+  Vec3 ex = sec.frames[first].x;
+  for (uint32_t k = 0; k < count; ++k) {
+    Vec3 t = sec.frames[first].z;
+    if (k > 0) {
+      const Vec3 in = safe_normalize(sec.positions[first + k] - sec.positions[first + k - 1], sec.frames[first + k].z);
+      t = in;
+      if (k + 1 < count)
+        t = safe_normalize(in + safe_normalize(sec.positions[first + k + 1] - sec.positions[first + k], in), in);
+    }
+    ex = safe_normalize(ex - t * glm::dot(ex, t), Frame::from_z(t).x);
+    axes[k] = ex;
+  }
+  return axes;
+}
+
 // Polygonises a laid-out cluster and opens it at its cuts; false when a cut is not clean or the
-// box is too large.
-bool mesh_cluster(JointPlan& plan, const ClusterLayout& layout, const TreeModel& model,
-                  const std::vector<StemCone>& cones) {
+// box is too large. `ringed` is the model with the cuts' rings, as the tubes are meshed.
+bool mesh_cluster(JointPlan& plan, const ClusterLayout& layout, const TreeModel& ringed,
+                  const std::vector<StemCone>& cones, const TreeMeshOptions& options) {
   const glm::ivec3 cells = glm::ivec3(glm::ceil((layout.hi - layout.lo) / layout.cell));
   if (static_cast<double>(cells.x) * cells.y * cells.z > 8e6) return false;
-  // Each limb as its tube's sections, so that where the joint is cut it is the tube's surface
-  // (the sections follow the reaction-wood offsets, which a cone from base to tip does not).
-  const StemSections& sec = model.sections;
+  // Each limb as its tube's pieces, polygons as the shared mesher draws them, so that where the
+  // joint is cut it is the tube's own surface (the sections also follow the reaction-wood
+  // offsets, which a cone from base to tip does not).
+  const StemSections& sec = ringed.sections;
   for (const int32_t s : layout.field) {
-    const uint32_t first = model.stems.first_section[static_cast<size_t>(s)];
-    const uint32_t count = model.stems.section_count[static_cast<size_t>(s)];
-    plan.cones.push_back(cones[static_cast<size_t>(s)].cone);
-    for (uint32_t k = first; k + 1 < first + count; ++k)
-      plan.pieces.push_back({sec.positions[k], sec.positions[k + 1], sec.radius_m[k], sec.radius_m[k + 1]});
+    const size_t su = static_cast<size_t>(s);
+    const uint32_t first = ringed.stems.first_section[su];
+    const uint32_t count = ringed.stems.section_count[su];
+    const int sides = radial_segments_for_level(options, ringed.stems.level[su], ringed.stems.lobes[su]);
+    const bool lobed = ringed.stems.lobes[su] > 0;
+    const std::vector<Vec3> axes = ring_axes(ringed, su);
+    plan.cones.push_back(cones[su].cone);
+    for (uint32_t k = 0; k + 1 < count; ++k) {
+      TubePiece p;
+      const uint32_t i = first + k;
+      p.cone = {sec.positions[i], sec.positions[i + 1], sec.radius_m[i], sec.radius_m[i + 1]};
+      const Vec3 along = sec.positions[i + 1] - sec.positions[i];
+      const float len = glm::length(along);
+      const bool pointed = k + 2 == count && sec.radius_m[i + 1] <= 1e-7f;
+      if (len > 0 && !lobed && !pointed) {
+        const Vec3 u = along / len;
+        const Vec3 ex = axes[k] - u * glm::dot(axes[k], u);
+        if (glm::length(ex) > 1e-6f) {
+          p.ex = glm::normalize(ex);
+          p.ey = glm::cross(u, p.ex);
+          p.sides = sides;
+        }
+      }
+      plan.pieces.push_back(p);
+    }
   }
-  auto field = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, plan.joints); };
-  TriangleMesh mesh = polygonise_box(field, layout.lo, cells, layout.cell);
+  auto field = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, plan.joints, false); };
+  auto round = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, plan.joints, true); };
+  float fillet = 0;
+  for (const BlendJoint& j : plan.joints) fillet = std::max(fillet, j.fillet_m);
+  TriangleMesh mesh = polygonise_box(field, round, layout.lo, cells, layout.cell, fillet);
   std::vector<JointCut> cuts = layout.cuts;
   for (JointCut& c : cuts)
-    if (!open_joint(mesh, c, field, layout.cell)) return false;
+    if (!open_joint(mesh, c, field, round, layout.cell)) return false;
   plan.lo = layout.lo;
   plan.hi = layout.lo + Vec3(cells) * layout.cell;
   plan.cell_m = layout.cell;
@@ -747,16 +869,20 @@ void zipper(TriangleMesh& mesh, const JointCut& cut, uint32_t loop_offset, uint3
   // The loop from its least angle, turning the same way.
   std::vector<uint32_t> b(cut.loop.size());
   for (size_t k = 0; k < b.size(); ++k) b[k] = cut.loop[k] + loop_offset;
-  const float a0 = angle_about(mesh.positions[b[0]], cut.origin, u, e0);
-  const float a1 = angle_about(mesh.positions[b[1]], cut.origin, u, e0);
-  if (std::remainder(a1 - a0, 2 * kPi) < 0) std::reverse(b.begin(), b.end());
-  std::vector<float> ba(b.size());
-  for (size_t k = 0; k < b.size(); ++k) ba[k] = angle_about(mesh.positions[b[k]], cut.origin, u, e0);
-  const size_t least = static_cast<size_t>(std::min_element(ba.begin(), ba.end()) - ba.begin());
+  auto angle = [&](uint32_t v) { return angle_about(mesh.positions[v], cut.origin, u, e0); };
+  float turned = 0;
+  for (size_t k = 0; k < b.size(); ++k) turned += std::remainder(angle(b[(k + 1) % b.size()]) - angle(b[k]), 2 * kPi);
+  if (turned < 0) std::reverse(b.begin(), b.end());
+  size_t least = 0;
+  for (size_t k = 1; k < b.size(); ++k)
+    if (angle(b[k]) < angle(b[least])) least = k;
   std::rotate(b.begin(), b.begin() + static_cast<ptrdiff_t>(least), b.end());
-  std::rotate(ba.begin(), ba.begin() + static_cast<ptrdiff_t>(least), ba.end());
+  // Unwrapped: from the least angle once around, small steps back allowed.
+  std::vector<float> ba(b.size() + 1);
+  ba[0] = angle(b[0]);
+  for (size_t k = 1; k < b.size(); ++k) ba[k] = ba[k - 1] + std::remainder(angle(b[k]) - angle(b[k - 1]), 2 * kPi);
   b.push_back(b.front());
-  ba.push_back(ba.front() + 2 * kPi);
+  ba.back() = ba[0] + 2 * kPi;
   auto emit = [&](uint32_t p, uint32_t q, uint32_t r) {
     const Vec3 pp = mesh.positions[p], pq = mesh.positions[q], pr = mesh.positions[r];
     const Vec3 mid = (pp + pq + pr) / 3.0f;
@@ -831,9 +957,49 @@ void add_joints(TriangleMesh& stems, const TreeModel& ringed, const std::vector<
   stems.triangles = std::move(kept);
 }
 
+// The model with a section at every cut's ring, on the straight piece of the stem that holds it.
+TreeModel with_rings(const TreeModel& model, const std::vector<JointCut>& cuts) {
+  if (cuts.empty()) return model;
+  std::vector<std::vector<float>> rings(model.stems.size());
+  for (const JointCut& c : cuts) rings[static_cast<size_t>(c.stem)].push_back(c.ring_arc_m);
+  TreeModel out = model;
+  const StemSections& in = model.sections;
+  StemSections& sec = out.sections;
+  sec = {};
+  for (size_t s = 0; s < model.stems.size(); ++s) {
+    std::vector<float>& add = rings[s];
+    std::sort(add.begin(), add.end());
+    const uint32_t first = model.stems.first_section[s];
+    const uint32_t count = model.stems.section_count[s];
+    out.stems.first_section[s] = static_cast<uint32_t>(sec.size());
+    size_t next = 0;
+    for (uint32_t k = 0; k < count; ++k) {
+      const uint32_t i = first + k;
+      // Rings strictly inside the piece ending at section i, on its straight line.
+      while (k > 0 && next < add.size() && add[next] < in.arc_m[i]) {
+        if (add[next] > in.arc_m[i - 1]) {
+          const float t = (add[next] - in.arc_m[i - 1]) / (in.arc_m[i] - in.arc_m[i - 1]);
+          sec.positions.push_back(in.positions[i - 1] + (in.positions[i] - in.positions[i - 1]) * t);
+          sec.frames.push_back(in.frames[i]);
+          sec.radius_m.push_back(in.radius_m[i - 1] + (in.radius_m[i] - in.radius_m[i - 1]) * t);
+          sec.arc_m.push_back(add[next]);
+        }
+        ++next;
+      }
+      sec.positions.push_back(in.positions[i]);
+      sec.frames.push_back(in.frames[i]);
+      sec.radius_m.push_back(in.radius_m[i]);
+      sec.arc_m.push_back(in.arc_m[i]);
+    }
+    out.stems.section_count[s] = static_cast<uint32_t>(sec.size()) - out.stems.first_section[s];
+  }
+  return out;
+}
+
 }  // namespace
 
-std::vector<JointPlan> plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface) {
+HartBakerJoints plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface,
+                                       const TreeMeshOptions& options) {
   const size_t count = model.stems.size();
   std::vector<StemCone> cones(count);
   for (size_t s = 0; s < count; ++s) cones[s] = stem_cone(model, s);
@@ -915,7 +1081,13 @@ std::vector<JointPlan> plan_hart_baker_joints(const TreeModel& model, const Hart
             changed = true;
           }
   }
-  std::vector<JointPlan> plans;
+  // The tubes get their rings before the clusters are polygonised: a cluster's pieces are the
+  // tubes' own, rings included.
+  std::vector<JointCut> cuts;
+  for (size_t c = 0; c < nodes.size(); ++c)
+    if (layouts[c].result == ClusterLayout::Result::Ok)
+      cuts.insert(cuts.end(), layouts[c].cuts.begin(), layouts[c].cuts.end());
+  HartBakerJoints out{with_rings(model, cuts), {}};
   for (size_t c = 0; c < nodes.size(); ++c) {
     if (members[c].empty()) continue;
     if (layouts[c].result == ClusterLayout::Result::Ok) {
@@ -924,62 +1096,18 @@ std::vector<JointPlan> plan_hart_baker_joints(const TreeModel& model, const Hart
         plan.nodes.push_back(nodes[j].stem);
         plan.joints.push_back(nodes[j].joint);
       }
-      if (mesh_cluster(plan, layouts[c], model, cones)) {
-        plans.push_back(std::move(plan));
+      if (mesh_cluster(plan, layouts[c], out.ringed, cones, options)) {
+        out.plans.push_back(std::move(plan));
         continue;
       }
     }
-    for (const size_t j : members[c]) plans.push_back(closed_joint(model, cones, children, nodes[j]));
-  }
-  return plans;
-}
-
-float joint_plan_field(const JointPlan& plan, const Vec3& x) {
-  return plan_field(x, plan.cones, plan.pieces, plan.joints);
-}
-
-TreeModel with_joint_rings(const TreeModel& model, std::span<const JointPlan> plans) {
-  std::vector<std::vector<float>> rings(model.stems.size());
-  bool any = false;
-  for (const JointPlan& plan : plans)
-    if (plan.stitched)
-      for (const JointCut& c : plan.cuts) {
-        rings[static_cast<size_t>(c.stem)].push_back(c.ring_arc_m);
-        any = true;
-      }
-  if (!any) return model;
-  TreeModel out = model;
-  const StemSections& in = model.sections;
-  StemSections& sec = out.sections;
-  sec = {};
-  for (size_t s = 0; s < model.stems.size(); ++s) {
-    std::vector<float>& add = rings[s];
-    std::sort(add.begin(), add.end());
-    const uint32_t first = model.stems.first_section[s];
-    const uint32_t count = model.stems.section_count[s];
-    out.stems.first_section[s] = static_cast<uint32_t>(sec.size());
-    size_t next = 0;
-    for (uint32_t k = 0; k < count; ++k) {
-      const uint32_t i = first + k;
-      // Rings strictly inside the piece ending at section i, on its straight line.
-      while (k > 0 && next < add.size() && add[next] < in.arc_m[i]) {
-        if (add[next] > in.arc_m[i - 1]) {
-          const float t = (add[next] - in.arc_m[i - 1]) / (in.arc_m[i] - in.arc_m[i - 1]);
-          sec.positions.push_back(in.positions[i - 1] + (in.positions[i] - in.positions[i - 1]) * t);
-          sec.frames.push_back(in.frames[i]);
-          sec.radius_m.push_back(in.radius_m[i - 1] + (in.radius_m[i] - in.radius_m[i - 1]) * t);
-          sec.arc_m.push_back(add[next]);
-        }
-        ++next;
-      }
-      sec.positions.push_back(in.positions[i]);
-      sec.frames.push_back(in.frames[i]);
-      sec.radius_m.push_back(in.radius_m[i]);
-      sec.arc_m.push_back(in.arc_m[i]);
-    }
-    out.stems.section_count[s] = static_cast<uint32_t>(sec.size()) - out.stems.first_section[s];
+    for (const size_t j : members[c]) out.plans.push_back(closed_joint(model, cones, children, nodes[j]));
   }
   return out;
+}
+
+float joint_plan_field(const JointPlan& plan, const Vec3& x, bool round) {
+  return plan_field(x, plan.cones, plan.pieces, plan.joints, round);
 }
 
 BarkFlow hart_baker_bark_flow(const TreeModel& model, const HartBakerParams& params) {
@@ -1218,10 +1346,9 @@ TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& para
 TreeMesh make_hart_baker_mesh(const TreeModel& model, const HartBakerParams& params, const TreeMeshOptions& options) {
   TreeMesh mesh;
   if (params.surface.blend) {
-    const std::vector<JointPlan> plans = plan_hart_baker_joints(model, params.surface);
-    const TreeModel ringed = with_joint_rings(model, plans);
-    mesh = make_tree_mesh(ringed, options);
-    add_joints(mesh.stems, ringed, plans, options);
+    const HartBakerJoints joints = plan_hart_baker_joints(model, params.surface, options);
+    mesh = make_tree_mesh(joints.ringed, options);
+    add_joints(mesh.stems, joints.ringed, joints.plans, options);
   } else {
     mesh = make_tree_mesh(model, options);
   }

@@ -46,7 +46,7 @@ TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint
 // Where a stitched joint opens one of its limbs (docs/hart_baker.md "Blended joints"): the joint
 // mesh is cut by the plane through `origin` facing `normal` (away from the node) within `radius_m`
 // of the limb's axis, and the limb's tube starts again, `gap_m` further out, at the ring of the
-// section `ring_arc_m` along `stem` (with_joint_rings adds it). The band between the two is the
+// section `ring_arc_m` along `stem` (plan_hart_baker_joints adds it). The band between the two is the
 // stitch.
 struct JointCut {
   int32_t stem = -1;
@@ -59,19 +59,29 @@ struct JointCut {
   std::vector<uint32_t> loop;  // the joint mesh's open boundary there, in order around the limb
 };
 
+// A piece of a limb's tube between two of its rings as the shared mesher draws it: a prism on a
+// regular polygon of `sides` sides (0: the round cone) whose corners lie on the cone, the first
+// towards `ex`, turning towards `ey` (both across the piece's axis).
+struct TubePiece {
+  BlendCone cone;
+  Vec3 ex{1.0f, 0.0f, 0.0f};
+  Vec3 ey{0.0f, 1.0f, 0.0f};
+  int sides = 0;
+};
+
 // Blended joints meshed together: one node's, or a cluster's whose limbs meet before their blends
 // fade (short yearly segments, whorls). A stitched plan is the only surface between its nodes and
 // its cuts: its mesh is open at the cuts, the tubes of `inside` are dropped whole and the cut
 // stems' tubes from the node side to their rings. Otherwise (a limb too short to leave the blend,
-// a cut that is not one clean ring, more than 16 cones) each node's joint is the closed mesh of
+// a cut that is not one clean ring, more than 16 limbs) each node's joint is the closed mesh of
 // every cone near it, drawn over the tubes, in a plan of its own.
 struct JointPlan {
   std::vector<int32_t> nodes;      // the stems at whose tips the joints sit
   std::vector<BlendJoint> joints;  // their blends
   Vec3 lo{0.0f}, hi{0.0f};         // the polygonised box
   float cell_m = 0;
-  std::vector<BlendCone> cones;   // the field's cones, one per limb (stem), blended
-  std::vector<BlendCone> pieces;  // stitched: the limbs' tubes section by section, their union
+  std::vector<BlendCone> cones;   // the field's limbs, one cone per stem, blended
+  std::vector<TubePiece> pieces;  // stitched: the limbs' tubes piece by piece, whose union it takes
   bool stitched = false;
   std::vector<JointCut> cuts;
   std::vector<int32_t> inside;
@@ -79,17 +89,21 @@ struct JointPlan {
 };
 
 // A plan's field: the least of its joints' blends (blended_cones) of its cones, where a stitched
-// plan takes the union of the cones from its pieces (so it is the tubes' surface where the blends
-// have faded).
-float joint_plan_field(const JointPlan& plan, const Vec3& x);
+// plan takes the union from its pieces — the tubes' own polygons — so that where the blends have
+// faded the joint is the tubes' surface. With `round`, the pieces as round cones (the field whose
+// gradient gives the joint's normals, as the tubes' normals are the round cones').
+float joint_plan_field(const JointPlan& plan, const Vec3& x, bool round = false);
 
 // The blended joints of a Hart–Baker TreeModel: one per node whose thickest lateral is at least
-// `surface.joint_min_radius_m` thick, polygonised, and opened at its cuts where it is stitched.
-std::vector<JointPlan> plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface);
-
-// The model with a section added at every stitched cut's ring (on the straight piece of the stem
-// that holds it), so the shared mesher makes a ring there.
-TreeModel with_joint_rings(const TreeModel& model, std::span<const JointPlan> plans);
+// `surface.joint_min_radius_m` thick, clustered, polygonised and opened at their cuts where they
+// are stitched, and the model with a section added at every cut's ring (on the straight piece of
+// the stem that holds it), which the tubes are to be meshed from (`options` as for them).
+struct HartBakerJoints {
+  TreeModel ringed;
+  std::vector<JointPlan> plans;
+};
+HartBakerJoints plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface,
+                                       const TreeMeshOptions& options = {});
 
 // A Hart–Baker TreeModel (hart_baker_tree_model) as a TreeMesh: the shared mesher's tubes and
 // leaves, a blended joint (plan_hart_baker_joints) wherever a lateral at least
