@@ -394,52 +394,48 @@ PathWalk walk_limb(const TreeModel& model, const std::vector<std::vector<int32_t
   }
 }
 
-// The signed distance to a tube piece's polygon prism (between its end rings; the round cone's
-// `round` beyond them, where the neighbouring pieces or the joint's caps take over).
-float polygon_distance(const Vec3& x, const TubePiece& p, float round) {
-  if (p.sides < 3) return round;
+// The signed distance to a tube piece: across its axis to the round cone or, with `polygon`, to the
+// flat of its polygon facing x; along it to its ring planes (so that consecutive pieces meet
+// exactly, as the tube's bands do at their shared ring).
+float piece_distance(const Vec3& x, const TubePiece& p, bool polygon) {
   const Vec3 axis = p.cone.tip - p.cone.base;
   const float len2 = glm::dot(axis, axis);
-  if (len2 <= 0) return round;
+  if (len2 <= 0) return std::numeric_limits<float>::infinity();
   const float t = glm::dot(x - p.cone.base, axis) / len2;
-  if (t <= 0 || t >= 1) return round;
   const Vec3 q = x - (p.cone.base + axis * t);
-  const float r = (1 - t) * p.cone.base_radius_m + t * p.cone.tip_radius_m;
-  const float sector = 2 * kPi / static_cast<float>(p.sides);
-  const float a = wrap(std::atan2(glm::dot(q, p.ey), glm::dot(q, p.ex)));
-  const float mid = (std::floor(a / sector) + 0.5f) * sector;
-  return glm::dot(q, std::cos(mid) * p.ex + std::sin(mid) * p.ey) - r * std::cos(0.5f * sector);
+  const float tc = std::clamp(t, 0.0f, 1.0f);
+  const float r = (1 - tc) * p.cone.base_radius_m + tc * p.cone.tip_radius_m;
+  float across = glm::length(q) - r;
+  if (polygon && p.sides >= 3) {
+    const float sector = 2 * kPi / static_cast<float>(p.sides);
+    const float a = wrap(std::atan2(glm::dot(q, p.ey), glm::dot(q, p.ex)));
+    const float mid = (std::floor(a / sector) + 0.5f) * sector;
+    across = glm::dot(q, std::cos(mid) * p.ex + std::sin(mid) * p.ey) - r * std::cos(0.5f * sector);
+  }
+  const float ends = std::max(glm::dot(p.cone.base - x, p.base_axis), glm::dot(x - p.cone.tip, p.tip_axis));
+  return std::max(across, ends);
 }
 
 // The union of tube pieces: round, or as polygons. A polygon lies inside its circle by at most
-// r (1 − cos(π/sides)), so only pieces that close to the nearest round one are measured as
-// polygons.
+// r (1 − cos(π/sides)) ≤ r (π/sides)²/2, so only pieces that close to the nearest round one are
+// measured as polygons.
 float pieces_union(const Vec3& x, std::span<const TubePiece> pieces, bool round) {
   constexpr size_t kKept = 64;
   std::array<float, kKept> kept{};
   float least = std::numeric_limits<float>::infinity(), bound = least;
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TubePiece& p = pieces[i];
-    const ConeDistance cd = cone_distance(x, p.cone);
-    const float f = cd.d - cd.r;
+    const float f = piece_distance(x, p, false);
     if (i < kKept) kept[i] = f;
     least = std::min(least, f);
-    // 1 − cos a ≤ a²/2.
     const float a = p.sides >= 3 ? kPi / static_cast<float>(p.sides) : 0.0f;
-    const float sag = std::max(p.cone.base_radius_m, p.cone.tip_radius_m) * 0.5f * a * a;
-    bound = std::min(bound, f + sag);
+    bound = std::min(bound, f + std::max(p.cone.base_radius_m, p.cone.tip_radius_m) * 0.5f * a * a);
   }
   if (round) return least;
   float f = std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < pieces.size(); ++i) {
-    float r = 0;
-    if (i < kKept) {
-      r = kept[i];
-    } else {
-      const ConeDistance cd = cone_distance(x, pieces[i].cone);
-      r = cd.d - cd.r;
-    }
-    if (r <= bound) f = std::min(f, polygon_distance(x, pieces[i], r));
+    const float r = i < kKept ? kept[i] : piece_distance(x, pieces[i], false);
+    if (r <= bound) f = std::min(f, piece_distance(x, pieces[i], true));
   }
   return f;
 }
@@ -481,11 +477,20 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, const Field& field, const Nor
   const size_t nv = mesh.positions.size();
   std::vector<float> d(nv);
   std::vector<uint8_t> state(nv);  // 0 kept, 1 removed (beyond, in the cylinder), 2 beyond but outside
-  for (size_t v = 0; v < nv; ++v) {
-    const Vec3 rel = mesh.positions[v] - cut.origin;
-    d[v] = glm::dot(rel, u);
-    if (std::abs(d[v]) < 1e-7f) d[v] = -1e-7f;
-    if (d[v] > 0) state[v] = glm::length(rel - u * d[v]) < cut.radius_m ? 1 : 2;
+  // A vertex (nearly) on the plane would leave crossings (nearly) on top of it: the plane moves out
+  // a little until none is within a thousandth of a cell.
+  for (int attempt = 0;; ++attempt) {
+    float nearest = std::numeric_limits<float>::infinity();
+    for (size_t v = 0; v < nv; ++v) {
+      const Vec3 rel = mesh.positions[v] - cut.origin;
+      d[v] = glm::dot(rel, u);
+      nearest = std::min(nearest, std::abs(d[v]) < cut.radius_m + cell ? std::abs(d[v]) : nearest);
+      state[v] = d[v] <= 0 ? 0 : glm::length(rel - u * d[v]) < cut.radius_m ? 1 : 2;
+    }
+    if (nearest >= 1e-3f * cell) break;
+    if (attempt == 8) return false;
+    cut.origin += u * (2e-3f * cell);
+    cut.gap_m -= 2e-3f * cell;
   }
   TriangleMesh out;
   out.positions = mesh.positions;
@@ -538,21 +543,36 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, const Field& field, const Nor
     if (loop.size() > next.size()) return false;
   }
   if (loop.size() != next.size()) return false;
-  // Onto the zero set, within the plane (Newton steps along the gradient's part in the plane).
+  // Onto the zero set, along the plane's radius through the vertex (Illinois regula falsi within a
+  // cell either side).
   const float e = 0.05f * cell;
   for (const uint32_t v : loop) {
-    Vec3 x = out.positions[v];
-    for (int it = 0; it < 6; ++it) {
-      const float f = field(x);
-      Vec3 g = field_gradient(field, x, e) / (2 * e);
-      g -= u * glm::dot(g, u);
-      const float g2 = glm::dot(g, g);
-      if (g2 < 1e-12f || std::abs(f) < 1e-7f) break;
-      x -= g * (f / g2);
+    const Vec3 p = out.positions[v];
+    const Vec3 q = (p - cut.origin) - u * glm::dot(p - cut.origin, u);
+    const float r0 = glm::length(q);
+    if (r0 <= 0) return false;
+    const Vec3 axis = p - q, dir = q / r0;
+    float lo = std::max(0.0f, r0 - cell), hi = r0 + cell;
+    float flo = field(axis + dir * lo), fhi = field(axis + dir * hi);
+    if (flo >= 0 || fhi <= 0) return false;
+    float r = r0;
+    int kept = 0;
+    for (int it = 0; it < 40; ++it) {
+      r = lo + (hi - lo) * flo / (flo - fhi);
+      const float fr = field(axis + dir * r);
+      if (std::abs(fr) <= 1e-7f || hi - lo <= 1e-7f) break;
+      if (fr < 0) {
+        lo = r, flo = fr;
+        if (kept == -1) fhi *= 0.5f;
+        kept = -1;
+      } else {
+        hi = r, fhi = fr;
+        if (kept == 1) flo *= 0.5f;
+        kept = 1;
+      }
     }
-    if (glm::length(x - out.positions[v]) > cell ||
-        glm::length((x - cut.origin) - u * glm::dot(x - cut.origin, u)) >= cut.radius_m)
-      return false;
+    const Vec3 x = axis + dir * r;
+    if (glm::length(x - p) > cell || r >= cut.radius_m) return false;
     out.positions[v] = x;
     const Vec3 g = field_gradient(normal_at, x, e);
     out.normals[v] = glm::length(g) > 0 ? glm::normalize(g) : out.normals[v];
@@ -743,10 +763,15 @@ ClusterLayout layout_cluster(const std::vector<size_t>& members, const TreeModel
   return out;
 }
 
-// The reference axis of each of a stem's rings, as the shared mesher transports it (make_tree_mesh:
-// the first along the stem's first frame, then projected across each ring's axis, which bisects
-// the pieces meeting there).
-std::vector<Vec3> ring_axes(const TreeModel& model, size_t s) {
+// Each of a stem's rings as the shared mesher makes it (make_tree_mesh): its axis — the stem's first
+// frame at the first ring, then bisecting the pieces meeting there — and its reference direction,
+// transported from ring to ring.
+struct RingFrame {
+  Vec3 axis;
+  Vec3 ex;
+};
+
+std::vector<RingFrame> ring_frames(const TreeModel& model, size_t s) {
   auto safe_normalize = [](const Vec3& v, const Vec3& fallback) {
     const float l = glm::length(v);
     return l > 1e-12f ? v / l : fallback;
@@ -754,7 +779,7 @@ std::vector<Vec3> ring_axes(const TreeModel& model, size_t s) {
   const StemSections& sec = model.sections;
   const uint32_t first = model.stems.first_section[s];
   const uint32_t count = model.stems.section_count[s];
-  std::vector<Vec3> axes(count);
+  std::vector<RingFrame> rings(count);
   Vec3 ex = sec.frames[first].x;
   for (uint32_t k = 0; k < count; ++k) {
     Vec3 t = sec.frames[first].z;
@@ -765,9 +790,9 @@ std::vector<Vec3> ring_axes(const TreeModel& model, size_t s) {
         t = safe_normalize(in + safe_normalize(sec.positions[first + k + 1] - sec.positions[first + k], in), in);
     }
     ex = safe_normalize(ex - t * glm::dot(ex, t), Frame::from_z(t).x);
-    axes[k] = ex;
+    rings[k] = {t, ex};
   }
-  return axes;
+  return rings;
 }
 
 // Polygonises a laid-out cluster and opens it at its cuts; false when a cut is not clean or the
@@ -786,18 +811,20 @@ bool mesh_cluster(JointPlan& plan, const ClusterLayout& layout, const TreeModel&
     const uint32_t count = ringed.stems.section_count[su];
     const int sides = radial_segments_for_level(options, ringed.stems.level[su], ringed.stems.lobes[su]);
     const bool lobed = ringed.stems.lobes[su] > 0;
-    const std::vector<Vec3> axes = ring_axes(ringed, su);
+    const std::vector<RingFrame> rings = ring_frames(ringed, su);
     plan.cones.push_back(cones[su].cone);
     for (uint32_t k = 0; k + 1 < count; ++k) {
       TubePiece p;
       const uint32_t i = first + k;
       p.cone = {sec.positions[i], sec.positions[i + 1], sec.radius_m[i], sec.radius_m[i + 1]};
+      p.base_axis = rings[k].axis;
+      p.tip_axis = rings[k + 1].axis;
       const Vec3 along = sec.positions[i + 1] - sec.positions[i];
       const float len = glm::length(along);
       const bool pointed = k + 2 == count && sec.radius_m[i + 1] <= 1e-7f;
       if (len > 0 && !lobed && !pointed) {
         const Vec3 u = along / len;
-        const Vec3 ex = axes[k] - u * glm::dot(axes[k], u);
+        const Vec3 ex = rings[k].ex - u * glm::dot(rings[k].ex, u);
         if (glm::length(ex) > 1e-6f) {
           p.ex = glm::normalize(ex);
           p.ey = glm::cross(u, p.ex);
