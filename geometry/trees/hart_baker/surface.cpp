@@ -63,8 +63,15 @@ float blend_field(const Vec3& x, std::span<const BlendCone> cones, float f1, con
     }
   // Taken literally the blend fills everything between two axes (a point on the segment x1–x2 has
   // d = 0), so it is bounded: within the fillet of the cones' union, fading with the distance from
-  // the joint, and never thinner than the union.
-  return std::min(f1, std::max(blend, f1 - reach));
+  // the joint, and never thinner than the union. The bounds are rounded (a quadratic smooth
+  // minimum and maximum over 0.4 of the fillet there) so the fillet meets the limbs without a
+  // crease; the floor at 0.8 of the fillet and the rounding's 0.1 keep it within the fillet.
+  const float k = 0.4f * reach;
+  auto smin = [&](float a, float b) {
+    const float h = std::max(k - std::abs(a - b), 0.0f) / k;
+    return std::min(a, b) - h * h * k * 0.25f;
+  };
+  return smin(f1, -smin(-blend, 0.8f * reach - f1));
 }
 
 }  // namespace
@@ -149,6 +156,8 @@ TriangleMesh polygonise_box(const Field& field_at, const Normal& normal_at, cons
         t = ta + (tb - ta) * fa / (fa - fb);
       }
     }
+    // Not at a grid point: the vertices of the edges meeting there stay apart.
+    t = std::clamp(t, 1e-3f, 1 - 1e-3f);
     const Vec3 p = pa + (pb - pa) * t;
     const float e = 0.05f * h;
     Vec3 g(normal_at(p + Vec3(e, 0, 0)) - normal_at(p - Vec3(e, 0, 0)),
@@ -577,6 +586,34 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, const Field& field, const Nor
     const Vec3 g = field_gradient(normal_at, x, e);
     out.normals[v] = glm::length(g) > 0 ? glm::normalize(g) : out.normals[v];
   }
+  // Crossings of a sliver may land on (nearly) the same point: each such loop edge collapses, its
+  // triangle with it.
+  std::vector<uint32_t> kept;
+  std::unordered_map<uint32_t, uint32_t> alias;
+  for (const uint32_t v : loop) {
+    if (!kept.empty() && glm::length(out.positions[v] - out.positions[kept.back()]) < 1e-3f * cell)
+      alias.emplace(v, kept.back());
+    else
+      kept.push_back(v);
+  }
+  while (kept.size() > 1 && glm::length(out.positions[kept.back()] - out.positions[kept.front()]) < 1e-3f * cell) {
+    alias.emplace(kept.back(), kept.front());
+    for (auto& [from, to] : alias)
+      if (to == kept.back()) to = kept.front();
+    kept.pop_back();
+  }
+  if (kept.size() < 3) return false;
+  if (!alias.empty()) {
+    std::vector<glm::uvec3> triangles;
+    triangles.reserve(out.triangles.size());
+    for (glm::uvec3 t : out.triangles) {
+      for (int e = 0; e < 3; ++e)
+        if (const auto it = alias.find(t[e]); it != alias.end()) t[e] = it->second;
+      if (t.x != t.y && t.y != t.z && t.z != t.x) triangles.push_back(t);
+    }
+    out.triangles = std::move(triangles);
+  }
+  loop = std::move(kept);
   // Once around the axis, in one direction (a vertex may fall back a little where marching
   // tetrahedra left two crossings close together; the band's walk tolerates that).
   const Vec3 e0 = Frame::from_z(u).x;

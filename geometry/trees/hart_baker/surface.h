@@ -31,8 +31,9 @@ struct BlendJoint {
 // their nearest axis points x1 and x2 and r = (d2 r1 + d1 r2)/(d1 + d2); negative inside. Taken
 // over every pair of the cones (their minimum, so the field stays continuous where the nearest
 // pair changes) and bounded (docs/hart_baker.md "Readings"): never outside the union of the cones,
-// never more than the joint's fillet·(1 − |x − centre|/reach)² inside it, and equal to the union
-// beyond `reach_m`. At most 16 cones are read.
+// never more than the joint's fillet·(1 − |x − centre|/reach)² inside it, the bounds rounded (no
+// crease where the fillet meets a limb), and equal to the union beyond `reach_m`. At most 16 cones
+// are read.
 float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const BlendJoint& joint);
 
 // The closed surface of blended_cones over the axis-aligned cube of half-size `half_m` about the

@@ -294,9 +294,13 @@ TEST(HartBakerSurface, JointAndTubesLeaveNoHoles) {
       t0 = t;
     }
     if (!surface || glm::length(origin + dir * *surface - joint.centre) > 0.8f * joint.reach_m) continue;
+    // The stitched joint follows the tubes' polygons (flats up to 2 % of the radius inside the
+    // cones), so a grazing ray may meet it well before or after the cones: the hit must lie on
+    // the surface, and the ray may not pass it.
     const std::optional<float> hit = ray_hit(mesh.stems, origin, dir);
     ASSERT_TRUE(hit.has_value()) << "ray " << i;
-    EXPECT_NEAR(*hit, *surface, cell) << "ray " << i;
+    EXPECT_LT(*hit, *surface + cell) << "ray " << i;
+    EXPECT_LT(std::abs(blended_cones(origin + dir * *hit, cones, joint)), 0.3f * cell) << "ray " << i;
     ++tested;
   }
   EXPECT_GT(tested, 150);
@@ -309,7 +313,6 @@ void expect_closed_and_oriented(const TriangleMesh& mesh) {
   for (const auto& [edge, count] : w.undirected) {
     open += count < 2;
     crowded += count > 2;
-    if (count > 2) ADD_FAILURE() << w.where[edge.first].x << " " << w.where[edge.first].y << " " << w.where[edge.first].z << " - " << w.where[edge.second].x << " " << w.where[edge.second].y << " " << w.where[edge.second].z << " x" << count;
     if (count == 2) {
       const auto ab = w.directed.find(edge), ba = w.directed.find({edge.second, edge.first});
       misoriented += ab == w.directed.end() || ba == w.directed.end() || ab->second != 1 || ba->second != 1;
@@ -393,7 +396,10 @@ void expect_one_surface_at_joints(const TreeModel& model, const HartBakerParams&
     for (const JointPlan& plan : joints.plans) near = near || (plan.stitched && in_box(plan, mid));
     if (!near) continue;
     ++near_joints;
-    if (count != 2) new_bad += !before.count({{a.x, a.y, a.z}, {b.x, b.y, b.z}});
+    if (count != 2 && !before.count({{a.x, a.y, a.z}, {b.x, b.y, b.z}})) {
+      ++new_bad;
+      ADD_FAILURE() << a.x << " " << a.y << " " << a.z << " - " << b.x << " " << b.y << " " << b.z << " x" << count;
+    }
   }
   EXPECT_GT(near_joints, 1000);
   EXPECT_EQ(new_bad, 0);
@@ -422,9 +428,11 @@ void expect_one_surface_at_joints(const TreeModel& model, const HartBakerParams&
     // The joint's own vertices lie on its field's zero set (the loops too: moved onto it).
     for (const Vec3& p : plan.mesh.positions)
       if (in_stitched_region(plan, p)) {
-        EXPECT_NEAR(joint_plan_field(plan, p), 0.0f, 1e-4f) << p.x << " " << p.y << " " << p.z << " cell " << plan.cell_m << " round " << joint_plan_field(plan, p, true) << " border cells " << std::min({p.x - plan.lo.x, p.y - plan.lo.y, p.z - plan.lo.z, plan.hi.x - p.x, plan.hi.y - p.y, plan.hi.z - p.z}) / plan.cell_m << " idx " << (&p - plan.mesh.positions.data()) << " loops " << [&] { std::string o; for (auto& c : plan.cuts) for (auto v : c.loop) if (v == static_cast<uint32_t>(&p - plan.mesh.positions.data())) o += "L"; return o; }();
+        EXPECT_NEAR(joint_plan_field(plan, p), 0.0f, 1e-4f) << p.x << " " << p.y << " " << p.z;
       }
+    ();
   }
+}
 }
 
 TEST(HartBakerSurface, GrownTreeJointsAreOneSurfaceWithTheTubes) {
