@@ -430,9 +430,7 @@ void expect_one_surface_at_joints(const TreeModel& model, const HartBakerParams&
       if (in_stitched_region(plan, p)) {
         EXPECT_NEAR(joint_plan_field(plan, p), 0.0f, 1e-4f) << p.x << " " << p.y << " " << p.z;
       }
-    ();
   }
-}
 }
 
 TEST(HartBakerSurface, GrownTreeJointsAreOneSurfaceWithTheTubes) {
