@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <unordered_map>
 
 namespace sylva {
@@ -1288,7 +1289,37 @@ BarkFlow hart_baker_bark_flow(const TreeModel& model, const HartBakerParams& par
   return flow;
 }
 
-TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& params) {
+namespace {
+
+// Where a stitched joint is the surface: in its box and short of every cut.
+bool in_stitched(const JointPlan& plan, const Vec3& p) {
+  if (!plan.stitched || glm::any(glm::lessThan(p, plan.lo)) || glm::any(glm::greaterThan(p, plan.hi))) return false;
+  for (const JointCut& c : plan.cuts) {
+    const Vec3 rel = p - c.origin;
+    const float along = glm::dot(rel, c.normal);
+    if (along > 0 && glm::length(rel - c.normal * along) < c.radius_m) return false;
+  }
+  return true;
+}
+
+// How far along n from p a stitched joint's surface lies (within reach either way), if it does.
+std::optional<float> to_joint_surface(const JointPlan& plan, const Vec3& p, const Vec3& n, float reach) {
+  float lo = -reach, hi = reach;
+  float flo = joint_plan_field(plan, p + n * lo), fhi = joint_plan_field(plan, p + n * hi);
+  if (flo >= 0 || fhi <= 0) return std::nullopt;
+  for (int it = 0; it < 30; ++it) {
+    const float mid = 0.5f * (lo + hi);
+    if (joint_plan_field(plan, p + n * mid) < 0)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5f * (lo + hi);
+}
+
+}  // namespace
+
+TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& params, std::span<const JointPlan> joints) {
   const HartBakerBark& bark = params.bark;
   TriangleMesh mesh;
   if (bark.kind == BarkKind::Smooth) return mesh;
@@ -1345,6 +1376,20 @@ TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& para
       // Not where the limb runs inside its neighbours at a node (a lateral's base inside the
       // parent or its continuation, a parent's tip inside its children).
       if (inside_neighbour(s, at)) continue;
+      // Where a stitched joint is the surface, onto it.
+      float onto = 0;
+      bool lost = false;
+      for (const JointPlan& plan : joints)
+        if (in_stitched(plan, at)) {
+          float fillet = 0;
+          for (const BlendJoint& j : plan.joints) fillet = std::max(fillet, j.fillet_m);
+          const std::optional<float> d = to_joint_surface(plan, at, n, fillet + plan.cell_m);
+          lost = !d;
+          onto = d.value_or(0.0f);
+          break;
+        }
+      if (lost) continue;
+      const auto feature = static_cast<uint32_t>(mesh.positions.size());
       if (bark.kind == BarkKind::Spotted) {
         // A fan of triangles, its rim on the bark and its peak height_m above (§5.4).
         const float w = bark.size_m * (0.6f + 0.8f * rng.uniform()) * 0.5f;
@@ -1397,6 +1442,7 @@ TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& para
           mesh.triangles.emplace_back(a + 1, b + 2, b + 1);
         }
       }
+      for (uint32_t v = feature; v < mesh.positions.size(); ++v) mesh.positions[v] += n * onto;
     }
   }
   // Face every triangle outward (along its vertices' normals).
@@ -1408,15 +1454,15 @@ TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& para
 }
 
 TreeMesh make_hart_baker_mesh(const TreeModel& model, const HartBakerParams& params, const TreeMeshOptions& options) {
-  TreeMesh mesh;
-  if (params.surface.blend) {
-    const HartBakerJoints joints = plan_hart_baker_joints(model, params.surface, options);
-    mesh = make_tree_mesh(joints.ringed, options);
-    add_joints(mesh.stems, joints.ringed, joints.plans, options);
-  } else {
-    mesh = make_tree_mesh(model, options);
+  if (!params.surface.blend) {
+    TreeMesh mesh = make_tree_mesh(model, options);
+    append_mesh(mesh.stems, hart_baker_bark(model, params));
+    return mesh;
   }
-  append_mesh(mesh.stems, hart_baker_bark(model, params));
+  const HartBakerJoints joints = plan_hart_baker_joints(model, params.surface, options);
+  TreeMesh mesh = make_tree_mesh(joints.ringed, options);
+  add_joints(mesh.stems, joints.ringed, joints.plans, options);
+  append_mesh(mesh.stems, hart_baker_bark(model, params, joints.plans));
   return mesh;
 }
 

@@ -126,7 +126,10 @@ struct BarkFlow {
 BarkFlow hart_baker_bark_flow(const TreeModel& model, const HartBakerParams& params);
 
 // Spotted or ribbon bark (§5.4) as relief triangles placed along the flow lines; empty for
-// smooth bark.
-TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& params);
+// smooth bark. A feature whose anchor lies where a stitched joint of `joints` is the surface
+// (between its nodes and its cuts) moves along its normal onto the joint's surface, so it neither
+// floats over the tube taken away there nor sinks into the fillet.
+TriangleMesh hart_baker_bark(const TreeModel& model, const HartBakerParams& params,
+                             std::span<const JointPlan> joints = {});
 
 }  // namespace sylva

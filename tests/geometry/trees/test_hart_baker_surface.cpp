@@ -446,6 +446,32 @@ TEST(HartBakerSurface, WhorlJointsAreOneSurfaceWithTheTubes) {
   expect_one_surface_at_joints(model, params, 6);
 }
 
+TEST(HartBakerSurface, BarkOverAStitchedJointLiesOnItsSurface) {
+  // Spots placed where a stitched joint replaced the tubes sit on the joint's surface: within the
+  // spots' height of its zero set, neither floating over the flats nor sunk in the fillet (as they
+  // are when placed on the limbs' cones).
+  HartBakerParams params;
+  const TreeModel model = grown_tree(2, 0.7f, 10, params);
+  params.bark.kind = BarkKind::Spotted;
+  params.bark.min_radius_m = 0.01f;
+  const HartBakerJoints joints = plan_hart_baker_joints(model, params.surface);
+  auto off_surface = [&](const TriangleMesh& bark, int& inside) {
+    int off = 0;
+    inside = 0;
+    for (const Vec3& p : bark.positions)
+      for (const JointPlan& plan : joints.plans)
+        if (plan.stitched && in_stitched_region(plan, p)) {
+          ++inside;
+          off += std::abs(joint_plan_field(plan, p)) > params.bark.height_m + 1e-3f;
+        }
+    return off;
+  };
+  int inside = 0;
+  EXPECT_EQ(off_surface(hart_baker_bark(model, params, joints.plans), inside), 0);
+  EXPECT_GT(inside, 50);
+  EXPECT_GT(off_surface(hart_baker_bark(model, params), inside), 0);
+}
+
 TEST(HartBakerSurface, SmoothUnblendedMeshIsTheSharedMeshers) {
   const TreeModel model = y_model();
   HartBakerParams params;
