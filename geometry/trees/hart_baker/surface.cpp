@@ -430,18 +430,26 @@ float piece_distance(const Vec3& x, const TubePiece& p, bool polygon) {
 // r (1 − cos(π/sides)) ≤ r (π/sides)²/2, so only pieces that close to the nearest round one are
 // measured as polygons.
 float pieces_union(const Vec3& x, std::span<const TubePiece> pieces, bool round) {
+  if (round) {
+    // For normals: the round cones with their round ends, whose gradient is radial across a ring
+    // (a ring plane's own gradient, along the axis, would win within the polygon's sag of it).
+    float least = std::numeric_limits<float>::infinity();
+    for (const TubePiece& p : pieces) {
+      const ConeDistance cd = cone_distance(x, p.cone);
+      least = std::min(least, cd.d - cd.r);
+    }
+    return least;
+  }
   constexpr size_t kKept = 64;
   std::array<float, kKept> kept{};
-  float least = std::numeric_limits<float>::infinity(), bound = least;
+  float bound = std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TubePiece& p = pieces[i];
     const float f = piece_distance(x, p, false);
     if (i < kKept) kept[i] = f;
-    least = std::min(least, f);
     const float a = p.sides >= 3 ? kPi / static_cast<float>(p.sides) : 0.0f;
     bound = std::min(bound, f + std::max(p.cone.base_radius_m, p.cone.tip_radius_m) * 0.5f * a * a);
   }
-  if (round) return least;
   float f = std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < pieces.size(); ++i) {
     const float r = i < kKept ? kept[i] : piece_distance(x, pieces[i], false);

@@ -94,8 +94,8 @@ struct JointPlan {
 
 // A plan's field: the least of its joints' blends (blended_cones) of its cones, where a stitched
 // plan takes the union from its pieces — the tubes' own polygons — so that where the blends have
-// faded the joint is the tubes' surface. With `round`, the pieces as round cones (the field whose
-// gradient gives the joint's normals, as the tubes' normals are the round cones').
+// faded the joint is the tubes' surface. With `round`, the pieces as round cones with round ends
+// (the field whose gradient gives the joint's normals, as the tubes' normals are the cones').
 float joint_plan_field(const JointPlan& plan, const Vec3& x, bool round = false);
 
 // The blended joints of a Hart–Baker TreeModel: one per node whose thickest lateral is at least
