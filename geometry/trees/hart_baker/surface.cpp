@@ -93,12 +93,13 @@ namespace {
 //
 // Only the signs of the grid values decide the triangles, and only values next to a sign change or
 // the border are read again, so far from the surface a block of grid points takes the value at
-// its centre: the field lies between f1 − `fillet` and f1, f1 a union of cones changing by at most
-// 1.5 per metre, so a centre value beyond 1.5 × (the block's reach plus a cell's diagonal) +
-// `fillet` gives the whole block and its neighbours the same sign.
+// its centre: the field lies between f1 − fillet·s² and f1 (blended_cones), f1 a union of cones
+// changing by at most 1.2 per metre, so a centre value beyond 1.2 × (the block's reach plus a
+// cell's diagonal) + the most fillet·s² of the joints in `joints` over that ball gives the whole
+// block and its neighbours the same sign.
 template <class Field, class Normal>
 TriangleMesh polygonise_box(const Field& field_at, const Normal& normal_at, const Vec3& lo, const glm::ivec3& cells,
-                            float h, float fillet) {
+                            float h, std::span<const BlendJoint> joints) {
   // Grid points 0..n, the outer layer (0 and n) forced outside so the surface closes.
   const glm::ivec3 n = cells + 2;
   const Vec3 origin = lo - Vec3(h);
@@ -111,12 +112,18 @@ TriangleMesh polygonise_box(const Field& field_at, const Normal& normal_at, cons
   std::vector<float> field(static_cast<size_t>(n.x + 1) * static_cast<size_t>(n.y + 1) * static_cast<size_t>(n.z + 1));
   std::vector<uint8_t> border(field.size());
   constexpr int kBlock = 4;
-  const float far = 1.5f * (0.5f * kBlock + 1) * std::sqrt(3.0f) * h + fillet;
+  const float ball = (0.5f * kBlock + 1) * std::sqrt(3.0f) * h;
   for (int bk = 0; bk <= n.z; bk += kBlock)
     for (int bj = 0; bj <= n.y; bj += kBlock)
       for (int bi = 0; bi <= n.x; bi += kBlock) {
-        const float centre = field_at(origin + h * (Vec3(bi, bj, bk) + 0.5f * static_cast<float>(kBlock - 1)));
-        const bool uniform = std::abs(centre) > far;
+        const Vec3 c = origin + h * (Vec3(bi, bj, bk) + 0.5f * static_cast<float>(kBlock - 1));
+        float fillet = 0;
+        for (const BlendJoint& j : joints) {
+          const float s = std::max(0.0f, 1.0f - (glm::length(c - j.centre) - ball) / j.reach_m);
+          fillet = std::max(fillet, j.fillet_m * std::min(1.0f, s) * std::min(1.0f, s));
+        }
+        const float centre = field_at(c);
+        const bool uniform = std::abs(centre) > 1.2f * ball + fillet;
         for (int k = bk; k <= std::min(bk + kBlock - 1, n.z); ++k)
           for (int j = bj; j <= std::min(bj + kBlock - 1, n.y); ++j)
             for (int i = bi; i <= std::min(bi + kBlock - 1, n.x); ++i) {
@@ -234,7 +241,7 @@ TriangleMesh polygonise_box(const Field& field_at, const Normal& normal_at, cons
 TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint& joint, float half_m, int cells) {
   const float h = 2 * half_m / static_cast<float>(cells);
   auto field = [&](const Vec3& x) { return blended_cones(x, cones, joint); };
-  return polygonise_box(field, field, joint.centre - Vec3(half_m), glm::ivec3(cells), h, joint.fillet_m);
+  return polygonise_box(field, field, joint.centre - Vec3(half_m), glm::ivec3(cells), h, std::span(&joint, 1));
 }
 
 namespace {
@@ -426,16 +433,39 @@ float piece_distance(const Vec3& x, const TubePiece& p, bool polygon) {
   return std::max(across, ends);
 }
 
+// A ball holding a tube piece (its centre, and the most a point of the piece lies from it).
+struct PieceBall {
+  Vec3 centre;
+  float radius;
+};
+
+std::vector<PieceBall> piece_balls(std::span<const TubePiece> pieces) {
+  std::vector<PieceBall> balls;
+  for (const TubePiece& p : pieces)
+    balls.push_back({0.5f * (p.cone.base + p.cone.tip), 0.5f * glm::length(p.cone.tip - p.cone.base) +
+                                                            std::max(p.cone.base_radius_m, p.cone.tip_radius_m)});
+  return balls;
+}
+
+// Whether a piece, at least |x − centre| − radius from x, is certainly further than `bound`.
+bool beyond(const Vec3& x, std::span<const PieceBall> balls, size_t i, float bound) {
+  if (balls.empty()) return false;
+  const float reach = bound + balls[i].radius;
+  const Vec3 d = x - balls[i].centre;
+  return reach < 0 || glm::dot(d, d) > reach * reach;
+}
+
 // The union of tube pieces: round, or as polygons. A polygon lies inside its circle by at most
 // r (1 − cos(π/sides)) ≤ r (π/sides)²/2, so only pieces that close to the nearest round one are
-// measured as polygons.
-float pieces_union(const Vec3& x, std::span<const TubePiece> pieces, bool round) {
+// measured as polygons. `balls` (empty, or one per piece) skip the pieces certainly too far.
+float pieces_union(const Vec3& x, std::span<const TubePiece> pieces, std::span<const PieceBall> balls, bool round) {
   if (round) {
     // For normals: the round cones with their round ends, whose gradient is radial across a ring
     // (a ring plane's own gradient, along the axis, would win within the polygon's sag of it).
     float least = std::numeric_limits<float>::infinity();
-    for (const TubePiece& p : pieces) {
-      const ConeDistance cd = cone_distance(x, p.cone);
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (beyond(x, balls, i, least)) continue;
+      const ConeDistance cd = cone_distance(x, pieces[i].cone);
       least = std::min(least, cd.d - cd.r);
     }
     return least;
@@ -445,14 +475,14 @@ float pieces_union(const Vec3& x, std::span<const TubePiece> pieces, bool round)
   float bound = std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < pieces.size(); ++i) {
     const TubePiece& p = pieces[i];
-    const float f = piece_distance(x, p, false);
+    const float f = beyond(x, balls, i, bound) ? std::numeric_limits<float>::infinity() : piece_distance(x, p, false);
     if (i < kKept) kept[i] = f;
     const float a = p.sides >= 3 ? kPi / static_cast<float>(p.sides) : 0.0f;
     bound = std::min(bound, f + std::max(p.cone.base_radius_m, p.cone.tip_radius_m) * 0.5f * a * a);
   }
   float f = std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < pieces.size(); ++i) {
-    const float r = i < kKept ? kept[i] : piece_distance(x, pieces[i], false);
+    const float r = i < kKept ? kept[i] : beyond(x, balls, i, bound) ? bound + 1 : piece_distance(x, pieces[i], false);
     if (r <= bound) f = std::min(f, piece_distance(x, pieces[i], true));
   }
   return f;
@@ -460,13 +490,13 @@ float pieces_union(const Vec3& x, std::span<const TubePiece> pieces, bool round)
 
 // The field of a joint plan: its joints' blends of its cones, the least (JointPlan).
 float plan_field(const Vec3& x, std::span<const BlendCone> cones, std::span<const TubePiece> pieces,
-                 std::span<const BlendJoint> joints, bool round) {
+                 std::span<const PieceBall> balls, std::span<const BlendJoint> joints, bool round) {
   float f = std::numeric_limits<float>::infinity();
   if (pieces.empty()) {
     for (const BlendJoint& j : joints) f = std::min(f, blended_cones(x, cones, j));
     return f;
   }
-  const float f1 = pieces_union(x, pieces, round);
+  const float f1 = pieces_union(x, pieces, balls, round);
   for (const BlendJoint& j : joints) f = std::min(f, blend_field(x, cones, f1, j));
   return f;
 }
@@ -880,11 +910,10 @@ bool mesh_cluster(JointPlan& plan, const ClusterLayout& layout, const TreeModel&
       plan.pieces.push_back(p);
     }
   }
-  auto field = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, plan.joints, false); };
-  auto round = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, plan.joints, true); };
-  float fillet = 0;
-  for (const BlendJoint& j : plan.joints) fillet = std::max(fillet, j.fillet_m);
-  TriangleMesh mesh = polygonise_box(field, round, layout.lo, cells, layout.cell, fillet);
+  const std::vector<PieceBall> balls = piece_balls(plan.pieces);
+  auto field = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, balls, plan.joints, false); };
+  auto round = [&](const Vec3& x) { return plan_field(x, plan.cones, plan.pieces, balls, plan.joints, true); };
+  TriangleMesh mesh = polygonise_box(field, round, layout.lo, cells, layout.cell, plan.joints);
   std::vector<JointCut> cuts = layout.cuts;
   for (JointCut& c : cuts)
     if (!open_joint(mesh, c, field, round, layout.cell)) return false;
@@ -1180,7 +1209,7 @@ HartBakerJoints plan_hart_baker_joints(const TreeModel& model, const HartBakerSu
 }
 
 float joint_plan_field(const JointPlan& plan, const Vec3& x, bool round) {
-  return plan_field(x, plan.cones, plan.pieces, plan.joints, round);
+  return plan_field(x, plan.cones, plan.pieces, {}, plan.joints, round);
 }
 
 BarkFlow hart_baker_bark_flow(const TreeModel& model, const HartBakerParams& params) {
