@@ -1,7 +1,8 @@
 #pragma once
 // The Hart–Baker tree's surface (seed 004 §5.2–5.4): blended cones polygonised where a lateral
-// limb meets its parent, plain tubes elsewhere, and bark made from a flow of particles running
-// from the trunk base to the branch tips. Readings and measured figures: docs/hart_baker.md.
+// limb meets its parent and stitched to the plain tubes elsewhere as one surface, and bark made
+// from a flow of particles running from the trunk base to the branch tips. Readings and measured
+// figures: docs/hart_baker.md.
 
 #include "geometry/mesh.h"
 #include "geometry/trees/hart_baker/hart_baker.h"
