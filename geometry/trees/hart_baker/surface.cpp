@@ -1025,8 +1025,9 @@ void add_joints(TriangleMesh& stems, const TreeModel& ringed, const std::vector<
       const size_t s = static_cast<size_t>(cut.stem);
       const TubeLayout& l = layout[s];
       const uint32_t first = ringed.stems.first_section[s];
+      // with_rings put a section at exactly this arc (or the walk snapped to one).
       uint32_t k = 0;
-      while (ringed.sections.arc_m[first + k] != cut.ring_arc_m) ++k;
+      while (k + 1 < ringed.stems.section_count[s] && ringed.sections.arc_m[first + k] != cut.ring_arc_m) ++k;
       const uint32_t band = l.first_triangle + l.m + 2 * l.m * k;
       if (cut.toward_tip)
         drop(l.first_triangle, band);
