@@ -39,7 +39,7 @@ float segment_distance(const Vec3& x, const Vec3& a, const Vec3& b) {
   return glm::length(x - (a + ab * t));
 }
 
-// blended_cones with the union of the cones given, as f1 (the same limbs, piece by piece).
+// blended_cones with the union of the cones given as f1 (the same limbs, piece by piece).
 float blend_field(const Vec3& x, std::span<const BlendCone> cones, float f1, const BlendJoint& joint) {
   // The paper blends the two nearest cones; where three or more limbs meet, which two are nearest
   // changes abruptly and so would the field. The pairwise blends' minimum is continuous and is the
@@ -62,6 +62,12 @@ float blend_field(const Vec3& x, std::span<const BlendCone> cones, float f1, con
       const float r = sum > 0 ? (b.d * a.r + a.d * b.r) / sum : a.r;
       blend = std::min(blend, d - r);
     }
+  // Near one limb the blend is that cone's distance; where f1 is the limbs' tubes (their polygons
+  // and sections) rather than these cones, the blend is taken relative to them, so that it adds
+  // the fillet between limbs without rounding a limb back to its cone.
+  float cones_union = std::numeric_limits<float>::infinity();
+  for (size_t i = 0; i < n; ++i) cones_union = std::min(cones_union, near[i].d - near[i].r);
+  blend += f1 - cones_union;
   // Taken literally the blend fills everything between two axes (a point on the segment x1–x2 has
   // d = 0), so it is bounded: within the fillet of the cones' union, fading with the distance from
   // the joint, and never thinner than the union. The bounds are rounded (a quadratic smooth
@@ -411,8 +417,8 @@ PathWalk walk_limb(const TreeModel& model, const std::vector<std::vector<int32_t
   }
 }
 
-// The signed distance to a tube piece: across its axis to the round cone or, with `polygon`, to the
-// flat of its polygon facing x; along it to its ring planes (so that consecutive pieces meet
+// The signed distance to a tube piece: across its axis to the round cone or, with `polygon`, to its
+// polygon (corners rounded by rounding_m); along it to its ring planes (so that consecutive pieces meet
 // exactly, as the tube's bands do at their shared ring).
 float piece_distance(const Vec3& x, const TubePiece& p, bool polygon) {
   const Vec3 axis = p.cone.tip - p.cone.base;
@@ -424,10 +430,19 @@ float piece_distance(const Vec3& x, const TubePiece& p, bool polygon) {
   const float r = (1 - tc) * p.cone.base_radius_m + tc * p.cone.tip_radius_m;
   float across = glm::length(q) - r;
   if (polygon && p.sides >= 3) {
+    // The polygon moved in by ρ, rounded out by ρ: the distance to the inset flat facing x, or
+    // beyond the end of that flat to its corner, less ρ.
     const float sector = 2 * kPi / static_cast<float>(p.sides);
     const float a = wrap(std::atan2(glm::dot(q, p.ey), glm::dot(q, p.ex)));
     const float mid = (std::floor(a / sector) + 0.5f) * sector;
-    across = glm::dot(q, std::cos(mid) * p.ex + std::sin(mid) * p.ey) - r * std::cos(0.5f * sector);
+    const float side = a < mid ? -1.0f : 1.0f;
+    const Vec3 normal = std::cos(mid) * p.ex + std::sin(mid) * p.ey;
+    const Vec3 along = side * (std::cos(mid) * p.ey - std::sin(mid) * p.ex);
+    const float apothem = r * std::cos(0.5f * sector);
+    const float rho = std::min(p.rounding_m, 0.5f * apothem);
+    const float inset = apothem - rho, half_side = inset * std::tan(0.5f * sector);
+    const float d = glm::dot(q, normal) - inset, beside = glm::dot(q, along);
+    across = (beside > half_side && d > 0 ? glm::length(q - normal * inset - along * half_side) : d) - rho;
   }
   const float ends = std::max(glm::dot(p.cone.base - x, p.base_axis), glm::dot(x - p.cone.tip, p.tip_axis));
   return std::max(across, ends);
@@ -905,6 +920,7 @@ bool mesh_cluster(JointPlan& plan, const ClusterLayout& layout, const TreeModel&
           p.ex = glm::normalize(ex);
           p.ey = glm::cross(u, p.ex);
           p.sides = sides;
+          p.rounding_m = layout.cell;
         }
       }
       plan.pieces.push_back(p);

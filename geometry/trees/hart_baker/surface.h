@@ -64,12 +64,14 @@ struct JointCut {
 // A piece of a limb's tube between two of its rings as the shared mesher draws it: a prism on a
 // regular polygon of `sides` sides (0: the round cone) whose corners lie on the cone, the first
 // towards `ex`, turning towards `ey` (both across the piece's axis), between the planes of its
-// rings (through the cone's ends, facing `base_axis` and `tip_axis`, the rings' axes).
+// rings (through the cone's ends, facing `base_axis` and `tip_axis`, the rings' axes). Its
+// corners are rounded by `rounding_m` (about a marching cell, which cannot follow a sharp edge).
 struct TubePiece {
   BlendCone cone;
   Vec3 ex{1.0f, 0.0f, 0.0f};
   Vec3 ey{0.0f, 1.0f, 0.0f};
   int sides = 0;
+  float rounding_m = 0;
   Vec3 base_axis{0.0f, 0.0f, 1.0f};
   Vec3 tip_axis{0.0f, 0.0f, 1.0f};
 };
