@@ -62,12 +62,6 @@ float blend_field(const Vec3& x, std::span<const BlendCone> cones, float f1, con
       const float r = sum > 0 ? (b.d * a.r + a.d * b.r) / sum : a.r;
       blend = std::min(blend, d - r);
     }
-  // Near one limb the blend is that cone's distance; where f1 is the limbs' tubes (their polygons
-  // and sections) rather than these cones, the blend is taken relative to them, so that it adds
-  // the fillet between limbs without rounding a limb back to its cone.
-  float cones_union = std::numeric_limits<float>::infinity();
-  for (size_t i = 0; i < n; ++i) cones_union = std::min(cones_union, near[i].d - near[i].r);
-  blend += f1 - cones_union;
   // Taken literally the blend fills everything between two axes (a point on the segment x1–x2 has
   // d = 0), so it is bounded: within the fillet of the cones' union, fading with the distance from
   // the joint, and never thinner than the union. The bounds are rounded (a quadratic smooth
