@@ -29,12 +29,11 @@ std::vector<BlendCone> y_joint() {
 
 BlendJoint y_blend() { return {Vec3(0, 0, 1), 0.25f, 0.03f}; }
 
-// The same node as a TreeModel in hart_baker_tree_model's layout (two sections per stem).
-TreeModel y_model() {
+// A TreeModel of limbs given as cones with their parents and levels, two sections each; every
+// child sits `child_offset_m` along its parent.
+TreeModel cone_model(const std::vector<BlendCone>& cones, const std::vector<int32_t>& parents,
+                     const std::vector<uint8_t>& levels, float child_offset_m = 0.0f) {
   TreeModel m;
-  const std::vector<BlendCone> cones = y_joint();
-  const int32_t parents[] = {-1, 0, 0};
-  const uint8_t levels[] = {0, 0, 1};
   for (size_t s = 0; s < cones.size(); ++s) {
     const BlendCone& c = cones[s];
     m.stems.level.push_back(levels[s]);
@@ -44,7 +43,7 @@ TreeModel y_model() {
     m.stems.section_count.push_back(2);
     m.stems.length_m.push_back(glm::length(c.tip - c.base));
     m.stems.base_radius_m.push_back(c.base_radius_m);
-    m.stems.offset_m.push_back(s == 0 ? 0.0f : 1.0f);
+    m.stems.offset_m.push_back(parents[s] < 0 ? 0.0f : child_offset_m);
     m.stems.lobes.push_back(0);
     m.stems.lobe_depth.push_back(0.0f);
     const Frame f = Frame::from_z(glm::normalize(c.tip - c.base));
@@ -60,34 +59,8 @@ TreeModel y_model() {
   return m;
 }
 
-// A TreeModel of limbs given as cones with their parents and levels, two sections each.
-TreeModel cone_model(const std::vector<BlendCone>& cones, const std::vector<int32_t>& parents,
-                     const std::vector<uint8_t>& levels) {
-  TreeModel m;
-  for (size_t s = 0; s < cones.size(); ++s) {
-    const BlendCone& c = cones[s];
-    m.stems.level.push_back(levels[s]);
-    m.stems.parent.push_back(parents[s]);
-    m.stems.clone_of.push_back(-1);
-    m.stems.first_section.push_back(static_cast<uint32_t>(m.sections.size()));
-    m.stems.section_count.push_back(2);
-    m.stems.length_m.push_back(glm::length(c.tip - c.base));
-    m.stems.base_radius_m.push_back(c.base_radius_m);
-    m.stems.offset_m.push_back(0.0f);
-    m.stems.lobes.push_back(0);
-    m.stems.lobe_depth.push_back(0.0f);
-    const Frame f = Frame::from_z(glm::normalize(c.tip - c.base));
-    m.sections.positions.push_back(c.base);
-    m.sections.positions.push_back(c.tip);
-    m.sections.frames.push_back(f);
-    m.sections.frames.push_back(f);
-    m.sections.radius_m.push_back(c.base_radius_m);
-    m.sections.radius_m.push_back(c.tip_radius_m);
-    m.sections.arc_m.push_back(0.0f);
-    m.sections.arc_m.push_back(m.stems.length_m.back());
-  }
-  return m;
-}
+// The Y node as a TreeModel in hart_baker_tree_model's layout (two sections per stem).
+TreeModel y_model() { return cone_model(y_joint(), {-1, 0, 0}, {0, 0, 1}, 1.0f); }
 
 // Edges of a triangle mesh with its vertices welded by position: how many triangles use each
 // (undirected, by welded ids) and each direction.
