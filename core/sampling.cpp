@@ -54,12 +54,6 @@ float Distribution1D::sample(float u, float* pdf, int* bin) const {
   return std::min((static_cast<float>(i) + std::clamp(du, 0.0f, 1.0f)) / static_cast<float>(n), 0x1.fffffep-1f);
 }
 
-float Distribution1D::pdf(float x) const {
-  const int n = size();
-  const int i = std::clamp(static_cast<int>(x * static_cast<float>(n)), 0, n - 1);
-  return integral_ > 0 ? std::max(0.0f, weights_[i]) / integral_ : 1.0f;
-}
-
 Distribution2D::Distribution2D(const std::vector<float>& weights, int nu, int nv) {
   conditional_.reserve(nv);
   std::vector<float> row_mass(nv);
@@ -68,6 +62,11 @@ Distribution2D::Distribution2D(const std::vector<float>& weights, int nu, int nv
     row_mass[v] = conditional_.back().integral();
   }
   marginal_ = Distribution1D(std::move(row_mass));
+  nu_ = nu;
+  pdf_.resize(static_cast<size_t>(nu) * static_cast<size_t>(nv));
+  for (int v = 0; v < nv; ++v)
+    for (int u = 0; u < nu; ++u)
+      pdf_[static_cast<size_t>(v) * nu + u] = marginal_.bin_pdf(v) * conditional_[v].bin_pdf(u);
 }
 
 Vec2 Distribution2D::sample(Vec2 u, float* pdf) const {
@@ -80,9 +79,8 @@ Vec2 Distribution2D::sample(Vec2 u, float* pdf) const {
 }
 
 float Distribution2D::pdf(Vec2 p) const {
-  const int nv = marginal_.size();
-  const int row = std::clamp(static_cast<int>(p.y * static_cast<float>(nv)), 0, nv - 1);
-  return marginal_.pdf(p.y) * conditional_[row].pdf(p.x);
+  const int row = marginal_.bin_of(p.y);
+  return pdf_[static_cast<size_t>(row) * nu_ + conditional_[row].bin_of(p.x)];
 }
 
 }  // namespace sylva

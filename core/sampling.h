@@ -42,15 +42,18 @@ class Distribution1D {
 
   // Continuous sample in [0,1); `pdf` is the density on [0,1); `bin` the chosen bin.
   float sample(float u, float* pdf, int* bin = nullptr) const;
-  float pdf(float x) const;
+  float pdf(float x) const { return bin_pdf(bin_of(x)); }
+  // The density on [0,1) over bin i, and the bin holding x.
+  float bin_pdf(int i) const { return integral_ > 0 ? std::max(0.0f, weights_[i]) / integral_ : 1.0f; }
+  int bin_of(float x) const { return std::clamp(static_cast<int>(x * static_cast<float>(size())), 0, size() - 1); }
   int size() const { return static_cast<int>(weights_.size()); }
   float integral() const { return integral_; }  // mean of the weights
   float weight(int i) const { return weights_[i]; }
 
  private:
   std::vector<float> weights_;
-  std::vector<float> cdf_;    // size n+1
-  std::vector<int> guide_;    // guide_[k]: last bin whose cdf start ≤ k/n (cut-point search)
+  std::vector<float> cdf_;  // size n+1
+  std::vector<int> guide_;  // guide_[k]: last bin whose cdf start ≤ k/n (cut-point search)
   float integral_ = 0;
 };
 
@@ -66,6 +69,8 @@ class Distribution2D {
  private:
   std::vector<Distribution1D> conditional_;
   Distribution1D marginal_;
+  int nu_ = 0;
+  std::vector<float> pdf_;  // per cell (row-major): the marginal's density times the row's, one lookup
 };
 
 }  // namespace sylva
