@@ -1,7 +1,7 @@
 // `sylva export`: flattens a scene (or the built-in default) into one world-space triangle mesh
 // (OBJ, with a material library and leaf outline textures unless --no-materials:
-// render/obj_export.h) and prints the camera and lights as options of Embree's `pathtracer` tutorial, so the same
-// view can be rendered there (bench/compare_embree.sh).
+// render/obj_export.h) and prints the camera and lights as options of Embree's `pathtracer`
+// tutorial, so the same view can be rendered there (bench/compare_embree.sh).
 
 #include "app/commands.h"
 #include "app/render_job.h"

@@ -64,7 +64,7 @@ FlatScene flatten_scene(const Scene& scene) {
     auto add_mesh = [&](const TriangleMesh& mesh, uint32_t material) {
       const auto base = static_cast<uint32_t>(world.positions.size());
       for (size_t i = 0; i < mesh.positions.size(); ++i)
-        add_vertex(mesh.positions[i], normals ? to_world_normal(mesh.normals[i]) : Vec3(0.0f));
+        add_vertex(mesh.positions[i], mesh.normals.empty() ? Vec3(0.0f, 0.0f, 1.0f) : to_world_normal(mesh.normals[i]));
       for (const glm::uvec3& t : mesh.triangles) world.triangles.push_back(t + glm::uvec3(base));
       close_part({material, std::nullopt});
     };
