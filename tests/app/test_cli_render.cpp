@@ -178,10 +178,16 @@ TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
   EXPECT_NE(wrong.err.find("no checkpoint"), std::string::npos) << wrong.err;
 }
 
+// `sylva export` of the objects example scene to DIR/OBJ_NAME, with `options` after it.
+test::CommandResult export_objects(const fs::path& dir, const std::string& obj_name, const std::string& options = "") {
+  return run_sylva(
+      "export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --obj '" + (dir / obj_name).string() + "'" + options,
+      dir);
+}
+
 TEST(CliExport, FlattensTheSceneToObj) {
   const fs::path dir = fresh_dir("cli_export");
-  const auto r = run_sylva(
-      "export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --obj '" + (dir / "scene.obj").string() + "' -q", dir);
+  const auto r = export_objects(dir, "scene.obj", " -q");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string obj = read_text(dir / "scene.obj");
   // The objects scene: 2522 instanced triangles + 27000 leaf quads as two triangles each.
@@ -196,8 +202,7 @@ TEST(CliExport, FlattensTheSceneToObj) {
 // is red); the leaf part's opacity map is the leaf outline (an oval covers π/4 of its quad).
 TEST(CliExport, WritesMaterialsAndLeafOutlines) {
   const fs::path dir = fresh_dir("cli_export_materials");
-  const auto r = run_sylva(
-      "export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --obj '" + (dir / "scene.obj").string() + "'", dir);
+  const auto r = export_objects(dir, "scene.obj");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string obj = read_text(dir / "scene.obj");
   const std::string mtl = read_text(dir / "scene.mtl");
@@ -238,9 +243,7 @@ TEST(CliExport, WritesMaterialsAndLeafOutlines) {
   EXPECT_NE(obj.find("\nvt 1 1\n"), std::string::npos);  // leaf corners carry their quad coordinates
 
   // Geometry only: no library, no maps, no texture coordinates.
-  const auto plain = run_sylva("export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --no-materials --obj '" +
-                                   (dir / "plain.obj").string() + "' -q",
-                               dir);
+  const auto plain = export_objects(dir, "plain.obj", " --no-materials -q");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_FALSE(fs::exists(dir / "plain.mtl"));
   EXPECT_FALSE(fs::exists(dir / "plain.oval.ppm"));
@@ -252,8 +255,7 @@ TEST(CliExport, WritesMaterialsAndLeafOutlines) {
 TEST(CliExport, ChecksEveryOutputBeforeWriting) {
   const fs::path dir = fresh_dir("cli_export_outputs");
   fs::create_directory(dir / "scene.oval.ppm");
-  const auto r = run_sylva(
-      "export '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --obj '" + (dir / "scene.obj").string() + "'", dir);
+  const auto r = export_objects(dir, "scene.obj");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("scene.oval.ppm"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "scene.obj"));
