@@ -228,26 +228,28 @@ TriangleMesh read_mesh(const std::filesystem::path& file) {
                        : mesh_io_detail::parse_ply(file, mapped.bytes());
 }
 
-void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
-  const std::vector<uint32_t> one_group(mesh.triangles.size(), 0);
-  write_obj(file, mesh, ObjGroups{one_group, {}, {}});
-}
+void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) { write_obj(file, mesh, ObjGroups{}); }
 
 void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh, const ObjGroups& groups) {
   validate(mesh, file);
-  if (groups.of_triangle.size() != mesh.triangles.size())
-    throw Error("cannot write " + file.string() + ": face groups and faces differ in count");
-  // Faces by group, each group in mesh order (a counting sort).
-  const size_t group_count = std::max<size_t>(groups.names.size(), 1);
-  std::vector<size_t> start(group_count + 1, 0);
-  for (const uint32_t g : groups.of_triangle) {
-    if (g >= group_count) throw Error("cannot write " + file.string() + ": a face's group has no name");
-    ++start[g + 1];
+  // Without names the faces are written in mesh order; with names, by group (a counting sort), each
+  // group in mesh order.
+  const bool grouped = !groups.names.empty();
+  std::vector<size_t> start{0, mesh.triangles.size()};
+  std::vector<uint32_t> order;
+  if (grouped) {
+    if (groups.of_triangle.size() != mesh.triangles.size())
+      throw Error("cannot write " + file.string() + ": face groups and faces differ in count");
+    start.assign(groups.names.size() + 1, 0);
+    for (const uint32_t g : groups.of_triangle) {
+      if (g >= groups.names.size()) throw Error("cannot write " + file.string() + ": a face's group has no name");
+      ++start[g + 1];
+    }
+    for (size_t g = 0; g + 1 < start.size(); ++g) start[g + 1] += start[g];
+    order.resize(mesh.triangles.size());
+    std::vector<size_t> next(start.begin(), start.end() - 1);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) order[next[groups.of_triangle[t]]++] = static_cast<uint32_t>(t);
   }
-  for (size_t g = 0; g < group_count; ++g) start[g + 1] += start[g];
-  std::vector<uint32_t> order(mesh.triangles.size());
-  std::vector<size_t> next(start.begin(), start.end() - 1);
-  for (size_t t = 0; t < mesh.triangles.size(); ++t) order[next[groups.of_triangle[t]]++] = static_cast<uint32_t>(t);
 
   write_buffered(file, [&](BufferedWriter& w) {
     w.put("# Sylva mesh: ");
@@ -261,11 +263,11 @@ void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh, cons
     for (const Vec3& n : mesh.normals) put_vec(w, "vn", n);
     const bool uv = !mesh.uvs.empty();
     const bool nrm = !mesh.normals.empty();
-    for (size_t g = 0; g < group_count; ++g) {
+    for (size_t g = 0; g + 1 < start.size(); ++g) {
       if (start[g] == start[g + 1]) continue;
-      if (!groups.names.empty()) w.put("g " + groups.names[g] + "\nusemtl " + groups.names[g] + "\n");
+      if (grouped) w.put("g " + groups.names[g] + "\nusemtl " + groups.names[g] + "\n");
       for (size_t i = start[g]; i < start[g + 1]; ++i) {
-        const glm::uvec3& t = mesh.triangles[order[i]];
+        const glm::uvec3& t = mesh.triangles[grouped ? order[i] : i];
         w.put('f');
         for (int k = 0; k < 3; ++k) put_corner(w, t[k], uv ? t[k] : kNoIndex, nrm ? t[k] : kNoIndex);
         w.put('\n');

@@ -50,6 +50,7 @@ void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh);
 // Faces in named groups, each written as `g NAME` and `usemtl NAME` followed by its faces (in mesh
 // order), after `mtllib MTLLIB` when that is not empty. `of_triangle[t]` is face t's row of
 // `names`; groups without faces are not written. Names must be non-empty and free of white space.
+// With no names, the faces are written in mesh order without groups (`of_triangle` unread).
 struct ObjGroups {
   std::span<const uint32_t> of_triangle;
   std::span<const std::string> names;
