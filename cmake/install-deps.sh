@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config ninja-build
   libembree-dev libtbb-dev libglm-dev
-  libopenimageio-dev libopenexr-dev python3-imath libopencolorio-dev
+  libopenimageio-dev libopenexr-dev libpng-dev python3-imath libopencolorio-dev
   libtomlplusplus-dev libpugixml-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin  # sylva-mpi (optional at build time; CMake skips it without MPI)

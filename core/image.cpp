@@ -6,38 +6,37 @@
 #include "core/input_file.h"
 #include "core/memory.h"
 
+#include "core/image_reader.h"
+
 #include <Imath/half.h>
-#include <OpenImageIO/imageio.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStandardAttributes.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
+#include <dlfcn.h>
 #include <fmt/format.h>
+#include <png.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
+#include <mutex>
+#include <thread>
 
 namespace sylva {
 namespace {
 
-// No codec OpenImageIO reads packs pixels much tighter than deflate's limit of about 1032:1.
+// No codec packs pixels much tighter than deflate's limit of about 1032:1.
 constexpr uint64_t kMaxCompressionRatio = 2048;
-
-OIIO::TypeDesc storage_type(PixelType type) {
-  switch (type) {
-    case PixelType::Float:
-      return OIIO::TypeDesc::FLOAT;
-    case PixelType::Half:
-      return OIIO::TypeDesc::HALF;
-    case PixelType::UInt:
-      return OIIO::TypeDesc::UINT32;
-  }
-  return OIIO::TypeDesc::FLOAT;
-}
-
-std::string oiio_error(const std::string& what) {
-  const std::string detail = OIIO::geterror();
-  return detail.empty() ? what : what + ": " + detail;
-}
 
 // The sizes an image header claims, checked before anything is allocated from them: a corrupt or
 // hostile header can claim any window (docs/limits.md).
@@ -63,7 +62,9 @@ void check_image_header(const std::filesystem::path& path, const ImageHeaderSize
     throw Error(fmt::format("{}: header claims {}x{} pixels of {} channels, more than a file of {} bytes can hold",
                             path.string(), h.data_width, h.data_height, h.channels, file_bytes));
   const uint64_t display = static_cast<uint64_t>(h.display_width) * static_cast<uint64_t>(h.display_height);
-  const uint64_t bytes = (display * static_cast<uint64_t>(h.channels) + 2 * data) * sizeof(float);
+  // The image, every channel's plane of the data window, and one plane of raw samples.
+  const uint64_t channels = static_cast<uint64_t>(h.channels);
+  const uint64_t bytes = (display * channels + data * (channels + 1)) * sizeof(float);
   const uint64_t available = available_memory_bytes();
   if (bytes > available)
     throw Error(fmt::format("{}: reading this {}-channel image needs {:.1f} GiB but only {:.1f} GiB are available",
@@ -175,6 +176,184 @@ void check_exr_header(const std::filesystem::path& path) {
                      ImageHeaderSizes{display.first, display.second, data.first, data.second, channels, pixel_bytes});
 }
 
+// OpenEXR compresses and decompresses blocks of scan lines on its own thread pool; the bytes do not
+// depend on the number of threads.
+void use_exr_threads() {
+  static std::once_flag once;
+  std::call_once(
+      once, [] { Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))); });
+}
+
+SampleType sample_type(Imf::PixelType t) {
+  switch (t) {
+    case Imf::UINT:
+      return SampleType::UInt32;
+    case Imf::HALF:
+      return SampleType::Half;
+    case Imf::FLOAT:
+      return SampleType::Float;
+    default:
+      return SampleType::Other;
+  }
+}
+
+Imf::PixelType exr_type(PixelType t) {
+  switch (t) {
+    case PixelType::Half:
+      return Imf::HALF;
+    case PixelType::UInt:
+      return Imf::UINT;
+    case PixelType::Float:
+      break;
+  }
+  return Imf::FLOAT;
+}
+
+// The EXR header's `capDate` is the image's "DateTime" (the name OpenImageIO, which wrote Sylva's
+// files before, gives it).
+constexpr std::string_view kDateTime = "DateTime";
+constexpr std::string_view kExrDateTime = "capDate";
+
+// Channels in reading order: by layer (the name up to its last dot; unlayered first), within a
+// layer R, G, B, A first, then by name — the order OpenImageIO gave, which reports and tests show.
+std::vector<int> reading_order(const std::vector<std::string>& names) {
+  const auto key = [&](int i) {
+    const std::string& n = names[static_cast<size_t>(i)];
+    const size_t dot = n.rfind('.');
+    const std::string layer = dot == std::string::npos ? "" : n.substr(0, dot + 1);
+    const std::string suffix = dot == std::string::npos ? n : n.substr(dot + 1);
+    constexpr std::array<std::string_view, 4> first{"R", "G", "B", "A"};
+    const auto at = std::find(first.begin(), first.end(), suffix);
+    return std::tuple(layer, at - first.begin(), suffix);
+  };
+  std::vector<int> order(names.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  return order;
+}
+
+// A scan-line or tiled OpenEXR file (its first part), read with OpenEXR's own library.
+class ExrReader final : public ImageReader {
+ public:
+  explicit ExrReader(const std::filesystem::path& path) : file_(path.c_str()) {
+    const Imf::Header& h = file_.header();
+    const Imath::Box2i data = h.dataWindow(), display = h.displayWindow();
+    spec_.x = data.min.x;
+    spec_.y = data.min.y;
+    spec_.width = data.max.x - data.min.x + 1;
+    spec_.height = data.max.y - data.min.y + 1;
+    spec_.full_x = display.min.x;
+    spec_.full_y = display.min.y;
+    spec_.full_width = display.max.x - display.min.x + 1;
+    spec_.full_height = display.max.y - display.min.y + 1;
+    std::vector<std::string> names;
+    std::vector<Imf::Channel> channels;
+    for (auto c = h.channels().begin(); c != h.channels().end(); ++c) {
+      if (c.channel().xSampling != 1 || c.channel().ySampling != 1)
+        throw Error(fmt::format("{}: channel {} is subsampled, which Sylva does not read", path.string(), c.name()));
+      names.emplace_back(c.name());
+      channels.push_back(c.channel());
+    }
+    for (int i : reading_order(names)) {
+      spec_.channel_names.push_back(names[static_cast<size_t>(i)]);
+      spec_.channel_formats.push_back(sample_type(channels[static_cast<size_t>(i)].type));
+    }
+    spec_.channels = static_cast<int>(spec_.channel_names.size());
+    spec_.format = spec_.channel_formats.empty() ? SampleType::Other : spec_.channel_formats.front();
+    for (auto a = h.begin(); a != h.end(); ++a)
+      if (const auto* text = dynamic_cast<const Imf::StringAttribute*>(&a.attribute()))
+        spec_.string_attributes.emplace_back(a.name() == kExrDateTime ? kDateTime : a.name(), text->value());
+  }
+
+  const ImageFileSpec& spec() const override { return spec_; }
+
+  bool read_channels(float* planes) override {
+    const Imath::Box2i window = file_.header().dataWindow();
+    const size_t plane = static_cast<size_t>(spec_.width) * static_cast<size_t>(spec_.height);
+    Imf::FrameBuffer frame;
+    // OpenEXR converts half and unsigned samples to float by value.
+    for (size_t c = 0; c < spec_.channel_names.size(); ++c)
+      frame.insert(spec_.channel_names[c], Imf::Slice::Make(Imf::FLOAT, planes + c * plane, window));
+    try {
+      file_.setFrameBuffer(frame);
+      file_.readPixels(window.min.y, window.max.y);
+    } catch (const std::exception& e) {
+      error_ = e.what();
+      return false;
+    }
+    return true;
+  }
+
+  std::string error() const override { return error_; }
+
+ private:
+  Imf::InputFile file_;
+  ImageFileSpec spec_;
+  std::string error_;
+};
+
+// The OpenImageIO module's open function, loaded on first use: from beside the executable (a copied
+// installation), else from where the build put it.
+OpenImageReaderFn oiio_module(const std::filesystem::path& file) {
+  static const std::pair<OpenImageReaderFn, std::string> module = [] {
+    constexpr const char* kName = "libsylva_oiio.so";
+    std::vector<std::filesystem::path> candidates;
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) candidates.push_back(exe.parent_path() / kName);
+    candidates.emplace_back(SYLVA_OIIO_MODULE);
+    std::string tried;
+    for (const std::filesystem::path& candidate : candidates) {
+      if (!std::filesystem::exists(candidate, ec)) {
+        tried += fmt::format("{}{} (missing)", tried.empty() ? "" : ", ", candidate.string());
+        continue;
+      }
+      void* handle = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+      if (!handle) {
+        tried += fmt::format("{}{} ({})", tried.empty() ? "" : ", ", candidate.string(), dlerror());
+        continue;
+      }
+      if (void* fn = dlsym(handle, kOpenImageReaderSymbol))
+        return std::pair{reinterpret_cast<OpenImageReaderFn>(fn), std::string()};
+      tried += fmt::format("{}{} (no {})", tried.empty() ? "" : ", ", candidate.string(), kOpenImageReaderSymbol);
+    }
+    return std::pair{OpenImageReaderFn{nullptr}, tried};
+  }();
+  if (!module.first)
+    throw Error(fmt::format("{}: reading an image that is not OpenEXR needs OpenImageIO's module, not found: {}",
+                            file.string(), module.second));
+  return module.first;
+}
+
+bool is_exr(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[4] = {};
+  in.read(magic, sizeof magic);
+  return in.gcount() == 4 && std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0;
+}
+
+// Opens an image file for reading after the checks every reader shares (the file exists, is a
+// regular file, and an EXR header is sane).
+std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path, std::string_view what) {
+  if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
+  require_regular_file(path, std::string(what));
+  check_exr_header(path);
+  if (is_exr(path)) {
+    use_exr_threads();
+    try {
+      return std::make_unique<ExrReader>(path);
+    } catch (const Error&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw Error(fmt::format("{}: cannot read image: {}", path.string(), e.what()));
+    }
+  }
+  std::string error;
+  std::unique_ptr<ImageReader> in(oiio_module(path)(path.c_str(), &error));
+  if (!in) throw Error(path.string() + ": cannot read image" + (error.empty() ? "" : ": " + error));
+  return in;
+}
+
 }  // namespace
 
 int Image::find_channel(std::string_view name) const {
@@ -228,27 +407,32 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
                                                                                 image.channels.size())
     throw Error(path.string() + ": inconsistent image (channels, types and pixels disagree)");
 
-  OIIO::ImageSpec spec(image.width, image.height, nc, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = image.channels;
-  spec.channelformats.clear();
-  for (PixelType t : image.types) spec.channelformats.push_back(storage_type(t));
-  spec.alpha_channel = image.find_channel("A");
-  spec.z_channel = image.find_channel("Z");
-  spec.attribute("compression", "zip");
-  // OpenImageIO stamps the current time (EXR capDate) unless told otherwise; an empty DateTime
-  // keeps files byte-identical for identical images, so renders can be checked by file hash.
-  spec.attribute("DateTime", "");
-  for (const auto& [key, value] : image.attributes) spec.attribute(key, value);
-  if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0)
-    spec.attribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), rec709_chromaticities.data());
+  // No capture date unless the image has one, so identical images give identical files.
+  Imf::Header header(image.width, image.height);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  for (int c = 0; c < nc; ++c)
+    header.channels().insert(image.channels[static_cast<size_t>(c)],
+                             Imf::Channel(exr_type(image.types[static_cast<size_t>(c)])));
+  try {
+    for (const auto& [key, value] : image.attributes) {
+      if (key == kDateTime && value.empty()) continue;
+      header.insert(key == kDateTime ? std::string(kExrDateTime) : key, Imf::StringAttribute(value));
+    }
+  } catch (const std::exception& e) {
+    throw Error(fmt::format("{}: cannot write the header: {}", path.string(), e.what()));
+  }
+  if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0) {
+    const auto& xy = rec709_chromaticities;
+    Imf::addChromaticities(header, Imf::Chromaticities(Imath::V2f(xy[0], xy[1]), Imath::V2f(xy[2], xy[3]),
+                                                       Imath::V2f(xy[4], xy[5]), Imath::V2f(xy[6], xy[7])));
+  }
 
-  // Native per-channel layout: OIIO would treat integer formats as normalised if asked to convert
-  // floats, so the pixels are packed here in each channel's own type.
+  // Each channel in its own type, pixel after pixel.
   std::vector<size_t> offsets(static_cast<size_t>(nc));
   size_t pixel_bytes = 0;
   for (int c = 0; c < nc; ++c) {
     offsets[static_cast<size_t>(c)] = pixel_bytes;
-    pixel_bytes += spec.channelformats[static_cast<size_t>(c)].size();
+    pixel_bytes += image.types[static_cast<size_t>(c)] == PixelType::Half ? sizeof(Imath::half) : sizeof(float);
   }
   const size_t pixel_count = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
   std::vector<unsigned char> packed(pixel_count * pixel_bytes);
@@ -272,14 +456,22 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
         }
       }
     }
+  Imf::FrameBuffer frame;
+  for (int c = 0; c < nc; ++c)
+    frame.insert(image.channels[static_cast<size_t>(c)],
+                 Imf::Slice(exr_type(image.types[static_cast<size_t>(c)]),
+                            reinterpret_cast<char*>(packed.data() + offsets[static_cast<size_t>(c)]), pixel_bytes,
+                            pixel_bytes * static_cast<size_t>(image.width)));
 
+  use_exr_threads();
   write_file_atomic_by_name(path, [&](const std::filesystem::path& tmp) {
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("openexr");
-    if (!out) throw Error(path.string() + ": " + oiio_error("OpenImageIO has no OpenEXR writer"));
-    if (!out->open(tmp.string(), spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
-    const bool ok = out->write_image(OIIO::TypeDesc::UNKNOWN, packed.data());
-    const std::string write_error = ok ? "" : out->geterror();
-    if (!out->close() || !ok) throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
+    try {
+      Imf::OutputFile out(tmp.c_str(), header);
+      out.setFrameBuffer(frame);
+      out.writePixels(image.height);
+    } catch (const std::exception& e) {
+      throw Error(path.string() + ": cannot write: " + e.what());
+    }
   });
 }
 
@@ -301,81 +493,78 @@ std::string_view raster_type_name(RasterType type) {
   return "an unsupported sample type";
 }
 
+namespace {
+
+size_t sample_bytes(SampleType t) {
+  switch (t) {
+    case SampleType::UInt8:
+      return 1;
+    case SampleType::UInt16:
+    case SampleType::Half:
+      return 2;
+    default:
+      return 4;
+  }
+}
+
+// Every channel plane of the data window, after the header's sizes passed check_image_header.
+std::vector<float> read_planes(const std::filesystem::path& path, ImageReader& in) {
+  const ImageFileSpec& spec = in.spec();
+  std::vector<float> planes(static_cast<size_t>(spec.channels) * static_cast<size_t>(spec.width) *
+                            static_cast<size_t>(spec.height));
+  if (!in.read_channels(planes.data())) throw Error(path.string() + ": cannot read pixels: " + in.error());
+  return planes;
+}
+
+}  // namespace
+
 Raster read_raster(const std::filesystem::path& path) {
-  if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
-  require_regular_file(path, "raster");
-  check_exr_header(path);
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
-  if (!in) throw Error(path.string() + ": " + oiio_error("cannot read image"));
-  const OIIO::ImageSpec& spec = in->spec();
+  const std::unique_ptr<ImageReader> in = open_image(path, "raster");
+  const ImageFileSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.depth > 1) throw Error(path.string() + ": not a 2D image");
-  if (spec.nchannels != 1)
-    throw Error(
-        fmt::format("{}: a raster needs exactly one channel, this image has {}", path.string(), spec.nchannels));
+  if (spec.channels != 1)
+    throw Error(fmt::format("{}: a raster needs exactly one channel, this image has {}", path.string(), spec.channels));
   check_image_header(path, ImageHeaderSizes{spec.width, spec.height, spec.width, spec.height, 1,
-                                            static_cast<uint64_t>(spec.format.size())});
+                                            static_cast<uint64_t>(sample_bytes(spec.format))});
   Raster r;
   r.width = spec.width;
   r.height = spec.height;
-  switch (spec.format.basetype) {
-    case OIIO::TypeDesc::UINT8:
+  switch (spec.format) {
+    case SampleType::UInt8:
       r.type = RasterType::UInt8;
       break;
-    case OIIO::TypeDesc::UINT16:
+    case SampleType::UInt16:
       r.type = RasterType::UInt16;
       break;
-    case OIIO::TypeDesc::UINT32:
+    case SampleType::UInt32:
       r.type = RasterType::UInt32;
       break;
-    case OIIO::TypeDesc::HALF:
+    case SampleType::Half:
       r.type = RasterType::Half;
       break;
-    case OIIO::TypeDesc::FLOAT:
+    case SampleType::Float:
       r.type = RasterType::Float;
       break;
-    default:
+    case SampleType::Other:
       r.type = RasterType::Other;
   }
-  const size_t n = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
-  r.values.resize(n);
-  bool ok = false;
-  // Integer samples are read in their own type, so no conversion rescales them.
-  const auto read_native = [&](auto zero) {
-    std::vector<decltype(zero)> raw(n);
-    const bool read = in->read_image(0, 0, 0, 1, spec.format, raw.data());
-    for (size_t i = 0; i < n; ++i) r.values[i] = static_cast<float>(raw[i]);
-    return read;
-  };
-  if (r.type == RasterType::UInt8) {
-    ok = read_native(uint8_t{0});
-  } else if (r.type == RasterType::UInt16) {
-    ok = read_native(uint16_t{0});
-  } else if (r.type == RasterType::UInt32) {
-    ok = read_native(uint32_t{0});
-  } else {
-    ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, r.values.data());
-  }
-  if (!ok) throw Error(path.string() + ": cannot read pixels: " + in->geterror());
+  r.values = read_planes(path, *in);
   return r;
 }
 
 Image read_exr(const std::filesystem::path& path) {
-  if (!std::filesystem::exists(path)) throw Error(path.string() + ": no such file");
-  require_regular_file(path, "image");
-  check_exr_header(path);
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path.string());
-  if (!in) throw Error(path.string() + ": " + oiio_error("cannot read image"));
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
+  const std::unique_ptr<ImageReader> in = open_image(path, "image");
+  const ImageFileSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.channels <= 0 || spec.depth > 1)
     throw Error(path.string() + ": not a 2D image with channels");
 
   const bool windowed = spec.full_width > 0 && spec.full_height > 0;
   {
     uint64_t stored_pixel_bytes = 0;
-    for (int c = 0; c < spec.nchannels; ++c) stored_pixel_bytes += spec.channelformat(c).size();
+    for (SampleType t : spec.channel_formats) stored_pixel_bytes += sample_bytes(t);
     check_image_header(
         path, ImageHeaderSizes{windowed ? spec.full_width : spec.width, windowed ? spec.full_height : spec.height,
-                               spec.width, spec.height, spec.nchannels, stored_pixel_bytes});
+                               spec.width, spec.height, spec.channels, stored_pixel_bytes});
   }
 
   // The image is the display window; a smaller or offset data window (cropped renders from other
@@ -384,60 +573,86 @@ Image read_exr(const std::filesystem::path& path) {
   image.width = windowed ? spec.full_width : spec.width;
   image.height = windowed ? spec.full_height : spec.height;
   const int x0 = windowed ? spec.x - spec.full_x : 0, y0 = windowed ? spec.y - spec.full_y : 0;
-  image.channels = spec.channelnames;
-  for (int c = 0; c < spec.nchannels; ++c) {
-    // 32-bit unsigned channels are ids; 8/16-bit ones (PNG, TIFF) are normalised colour.
-    const OIIO::TypeDesc f = spec.channelformat(c);
-    image.types.push_back(f.basetype == OIIO::TypeDesc::UINT32 ? PixelType::UInt
-                          : f.basetype == OIIO::TypeDesc::HALF ? PixelType::Half
-                                                               : PixelType::Float);
+  image.channels = spec.channel_names;
+  // 32-bit unsigned channels are ids; 8/16-bit ones (PNG, TIFF) are normalised colour.
+  std::vector<float> scale;
+  for (SampleType t : spec.channel_formats) {
+    image.types.push_back(t == SampleType::UInt32 ? PixelType::UInt
+                          : t == SampleType::Half ? PixelType::Half
+                                                  : PixelType::Float);
+    scale.push_back(t == SampleType::UInt8 ? 1.0f / 255.0f : t == SampleType::UInt16 ? 1.0f / 65535.0f : 1.0f);
   }
-  for (const OIIO::ParamValue& p : spec.extra_attribs) {
-    const std::string name = p.name().string();
-    if (p.type() != OIIO::TypeString || name == "compression" || name.rfind("oiio:", 0) == 0) continue;
-    const std::string value = p.get_string();
-    if (name == "DateTime" && value.empty()) continue;  // written by write_exr for determinism
+  for (const auto& [name, value] : spec.string_attributes) {
+    if (name == kDateTime && value.empty()) continue;  // written by earlier versions for determinism
     image.attributes.emplace_back(name, value);
   }
 
-  // Read each channel in its native type (32-bit ids must not be normalised).
-  const size_t data_count = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  const std::vector<float> planes = read_planes(path, *in);
   const size_t nc = image.channels.size();
   image.pixels.assign(static_cast<size_t>(image.width) * static_cast<size_t>(image.height) * nc, 0.0f);
-  std::vector<float> plane(data_count);
-  std::vector<uint32_t> ids;
+  const size_t plane_size = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   for (size_t c = 0; c < nc; ++c) {
-    const int ci = static_cast<int>(c);
-    bool ok = false;
-    if (image.types[c] == PixelType::UInt) {
-      ids.resize(data_count);
-      ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::UINT32, ids.data());
-      for (size_t p = 0; p < data_count; ++p) plane[p] = static_cast<float>(ids[p]);
-    } else {
-      ok = in->read_image(0, 0, ci, ci + 1, OIIO::TypeDesc::FLOAT, plane.data());
-    }
-    if (!ok) throw Error(path.string() + ": cannot read channel " + image.channels[c] + ": " + in->geterror());
+    const float* plane = planes.data() + c * plane_size;
     for (int y = 0; y < spec.height; ++y)
       for (int x = 0; x < spec.width; ++x)
         if (x + x0 >= 0 && x + x0 < image.width && y + y0 >= 0 && y + y0 < image.height)
-          image.at(x + x0, y + y0, ci) =
-              plane[static_cast<size_t>(y) * static_cast<size_t>(spec.width) + static_cast<size_t>(x)];
+          image.at(x + x0, y + y0, static_cast<int>(c)) =
+              scale[c] * plane[static_cast<size_t>(y) * static_cast<size_t>(spec.width) + static_cast<size_t>(x)];
   }
   return image;
 }
 
+namespace {
+
+// libpng reports errors through a callback that must not return: it records the message and jumps
+// back to write_png_file, which holds no object with a destructor between its setjmp and the jump.
+void png_error_handler(png_structp png, png_const_charp message) {
+  auto* out = static_cast<char*>(png_get_error_ptr(png));
+  std::snprintf(out, 256, "%s", message);
+  png_longjmp(png, 1);
+}
+
+void png_warning_handler(png_structp, png_const_charp) {}
+
+bool write_png_file(std::FILE* file, int width, int height, png_bytepp rows, char* error) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, error, png_error_handler, png_warning_handler);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_init_io(png, file);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+  png_write_info(png, info);
+  png_write_image(png, rows);
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+}  // namespace
+
 void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
   if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
     throw Error(path.string() + ": inconsistent PNG pixels");
-  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("oiio:ColorSpace", "sRGB");
+  std::vector<png_bytep> rows(static_cast<size_t>(height));
+  for (int y = 0; y < height; ++y)
+    rows[static_cast<size_t>(y)] = const_cast<png_bytep>(rgb.data() + static_cast<size_t>(y) * 3 * width);
   write_file_atomic_by_name(path, [&](const std::filesystem::path& tmp) {
-    std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create("png");
-    if (!out) throw Error(path.string() + ": " + oiio_error("OpenImageIO has no PNG writer"));
-    if (!out->open(tmp.string(), spec)) throw Error(path.string() + ": cannot write: " + out->geterror());
-    const bool ok = out->write_image(OIIO::TypeDesc::UINT8, rgb.data());
-    const std::string write_error = ok ? "" : out->geterror();
-    if (!out->close() || !ok) throw Error(path.string() + ": cannot write: " + (ok ? out->geterror() : write_error));
+    std::FILE* file = std::fopen(tmp.c_str(), "wb");
+    if (!file) throw Error(fmt::format("{}: cannot write: {}", path.string(), std::strerror(errno)));
+    char error[256] = "out of memory";
+    const bool ok = write_png_file(file, width, height, rows.data(), error);
+    // The file is flushed to disk when committed (write_file_atomic_by_name).
+    const bool written = std::fflush(file) == 0 && !std::ferror(file);
+    const int saved_errno = errno;
+    const bool closed = std::fclose(file) == 0;
+    if (!ok) throw Error(fmt::format("{}: cannot write: {}", path.string(), error));
+    if (!written || !closed)
+      throw Error(fmt::format("{}: cannot write: {}", path.string(), std::strerror(saved_errno)));
   });
 }
 

@@ -76,7 +76,7 @@ inline std::string checkpoint_input(std::string_view bytes) {
   return refusal([&] { Film::read(in, key, "fuzz.checkpoint"); });
 }
 
-// EXR inputs of `sylva compare` (read_exr). OpenImageIO reads files, so the bytes go to a
+// EXR inputs of `sylva compare` (read_exr). OpenEXR reads files, so the bytes go to a
 // per-process scratch file first (in /dev/shm when there is one).
 inline std::string exr_input(std::string_view bytes) {
   static const std::filesystem::path file =

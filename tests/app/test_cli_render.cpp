@@ -74,6 +74,32 @@ TEST(CliRender, DefaultSceneWritesExrAndPng) {
     }
 }
 
+// A render writes its EXR and PNG with OpenEXR and libpng: OpenImageIO (some 250 libraries, a
+// quarter of a second at start) is loaded, through its module, only to read another format
+// (core/image_reader.h). glibc's loader lists every object it loads under LD_DEBUG=files.
+TEST(CliRender, OpenImageIoIsLoadedOnlyForOtherFormats) {
+  const fs::path dir = fresh_dir("cli_oiio_module");
+  setenv("LD_DEBUG", "files", 1);
+  const auto render =
+      run_sylva("render '" SYLVA_SOURCE_DIR "/golden/scenes/ground_sky.toml' -o '" + (dir / "a.exr").string() +
+                    "' --png '" + (dir / "a.png").string() + "' --res 16x9 --spp 1 --quiet",
+                dir);
+  const auto exr = run_sylva(
+      "compare '" + (dir / "a.exr").string() + "' '" + (dir / "a.exr").string() + "' --fail 0 --fail-percent 0", dir);
+  const auto png = run_sylva(
+      "compare '" + (dir / "a.png").string() + "' '" + (dir / "a.png").string() + "' --fail 0 --fail-percent 0", dir);
+  unsetenv("LD_DEBUG");
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  ASSERT_EQ(exr.exit_code, 0) << exr.err;
+  ASSERT_EQ(png.exit_code, 0) << png.err;
+  EXPECT_NE(render.err.find("libOpenEXR"), std::string::npos);  // the loader's list is there
+  EXPECT_NE(render.err.find("libpng"), std::string::npos);
+  EXPECT_EQ(render.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_EQ(exr.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_NE(png.err.find("libsylva_oiio.so"), std::string::npos);
+  EXPECT_NE(png.err.find("libOpenImageIO"), std::string::npos);
+}
+
 TEST(CliRender, BadSceneFailsWithFileLineAndNoOutput) {
   const fs::path dir = fresh_dir("cli_bad");
   {

@@ -77,7 +77,7 @@ TEST_F(ImageFiles, ExrRoundTripKeepsNamesTypesValuesAndHeader) {
   }
   EXPECT_EQ(back.attribute("sylva:spp"), "256");
   EXPECT_EQ(back.attribute("sylva:scene"), "default, seed=7");
-  EXPECT_EQ(back.attribute("compression"), "");  // OIIO's own attributes are not passed through
+  EXPECT_EQ(back.attribute("compression"), "");  // the header's own fields are not image attributes
 
   // The file itself: ZIP, UINT ids, Rec.709 chromaticities.
   auto in = OIIO::ImageInput::open(path.string());
@@ -97,7 +97,7 @@ TEST_F(ImageFiles, ExrRoundTripKeepsNamesTypesValuesAndHeader) {
 TEST_F(ImageFiles, SameImageGivesIdenticalBytes) {
   const Image image = sample_image();
   write_exr(dir_ / "a.exr", image);
-  write_exr(dir_ / "b.exr", image);  // OIIO would otherwise stamp the time (to the second)
+  write_exr(dir_ / "b.exr", image);  // no capture date is stamped (to the second)
   auto bytes = [](const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -110,6 +110,29 @@ TEST_F(ImageFiles, SameImageGivesIdenticalBytes) {
   stamped.set_attribute("DateTime", "2026:01:02 03:04:05");
   write_exr(dir_ / "c.exr", stamped);
   EXPECT_EQ(read_exr(dir_ / "c.exr").attribute("DateTime"), "2026:01:02 03:04:05");
+}
+
+TEST_F(ImageFiles, ChannelsAreReadByLayerWithColourFirst) {
+  // OpenEXR stores channels sorted by name; they come back by layer (unlayered first), R, G, B, A
+  // first within a layer, then by name.
+  Image image = make_image(2, 1, {"var.R", "Z", "B", "albedo.G", "A", "R", "var.B", "G", "N.X", "albedo.R"});
+  for (int c = 0; c < image.channel_count(); ++c) image.at(1, 0, c) = static_cast<float>(c);
+  write_exr(dir_ / "order.exr", image);
+  const Image back = read_exr(dir_ / "order.exr");
+  const std::vector<std::string> expected{"R", "G", "B", "A", "Z", "N.X", "albedo.R", "albedo.G", "var.R", "var.B"};
+  EXPECT_EQ(back.channels, expected);
+  for (int c = 0; c < back.channel_count(); ++c)
+    EXPECT_EQ(back.at(1, 0, c), static_cast<float>(image.find_channel(back.channels[static_cast<size_t>(c)])));
+}
+
+TEST_F(ImageFiles, PngPreviewIsTaggedSrgb) {
+  write_png_rgb8(dir_ / "s.png", 1, 1, {10, 20, 30});
+  std::ifstream in(dir_ / "s.png", std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), {}};
+  EXPECT_EQ(bytes.compare(0, 8, "\x89PNG\r\n\x1a\n"), 0);
+  EXPECT_NE(bytes.find("sRGB"), std::string::npos);
+  const Image image = read_exr(dir_ / "s.png");
+  EXPECT_FLOAT_EQ(image.at(0, 0, 2), 30.0f / 255.0f);
 }
 
 TEST_F(ImageFiles, CroppedDataWindowIsPlacedInTheDisplayWindow) {
