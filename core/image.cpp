@@ -325,6 +325,21 @@ OpenImageReaderFn oiio_module(const std::filesystem::path& file) {
   return module.first;
 }
 
+// A reader's error as one line: OpenImageIO reports every error it recorded on a line of its own (a PNG
+// cut inside its pixel data gives libpng's message, then "PNG read error: ...", then "PNG library
+// error"), and every message of Sylva is one line.
+std::string one_line(std::string_view text) {
+  std::string line;
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view part = text.substr(at, end - at);
+    if (part.find_first_not_of(" \t\r") != std::string_view::npos)
+      line += (line.empty() ? "" : "; ") + std::string(part);
+    at = end + 1;
+  }
+  return line;
+}
+
 bool is_exr(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[4] = {};
@@ -345,12 +360,12 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path, std::
     } catch (const Error&) {
       throw;
     } catch (const std::exception& e) {
-      throw Error(fmt::format("{}: cannot read image: {}", path.string(), e.what()));
+      throw Error(fmt::format("{}: cannot read image: {}", path.string(), one_line(e.what())));
     }
   }
   std::string error;
   std::unique_ptr<ImageReader> in(oiio_module(path)(path.c_str(), &error));
-  if (!in) throw Error(path.string() + ": cannot read image" + (error.empty() ? "" : ": " + error));
+  if (!in) throw Error(path.string() + ": cannot read image" + (error.empty() ? "" : ": " + one_line(error)));
   return in;
 }
 
@@ -512,7 +527,7 @@ std::vector<float> read_planes(const std::filesystem::path& path, ImageReader& i
   const ImageFileSpec& spec = in.spec();
   std::vector<float> planes(static_cast<size_t>(spec.channels) * static_cast<size_t>(spec.width) *
                             static_cast<size_t>(spec.height));
-  if (!in.read_channels(planes.data())) throw Error(path.string() + ": cannot read pixels: " + in.error());
+  if (!in.read_channels(planes.data())) throw Error(path.string() + ": cannot read pixels: " + one_line(in.error()));
   return planes;
 }
 

@@ -261,6 +261,19 @@ TEST_F(ImageFiles, ReadErrorsAreClear) {
   fs::resize_file(cut, fs::file_size(full) / 2);
   const std::string m3 = message(cut);
   EXPECT_EQ(m3.rfind(cut.string() + ": ", 0), 0u) << m3;
+
+  // A PNG cut inside its pixel data (read through OpenImageIO, which reports three errors on three
+  // lines): one line naming the file.
+  std::vector<uint8_t> rgb(64 * 64 * 3);
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>((i * 7919) % 251);
+  const fs::path png = dir_ / "full.png";
+  write_png_rgb8(png, 64, 64, rgb);
+  const fs::path cut_png = dir_ / "cut.png";
+  fs::copy_file(png, cut_png);
+  fs::resize_file(cut_png, fs::file_size(png) / 2);
+  const std::string m4 = message(cut_png);
+  EXPECT_EQ(m4.rfind(cut_png.string() + ": cannot read pixels: ", 0), 0u) << m4;
+  for (const std::string& m : {m1, m2, m3, m4}) EXPECT_EQ(m.find('\n'), std::string::npos) << m;
 }
 
 // The bytes of an EXR with one header value replaced: `field` is an attribute name, the 4 bytes at
