@@ -425,21 +425,25 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   // No capture date unless the image has one, so identical images give identical files.
   Imf::Header header(image.width, image.height);
   header.compression() = Imf::ZIP_COMPRESSION;
-  for (int c = 0; c < nc; ++c)
-    header.channels().insert(image.channels[static_cast<size_t>(c)],
-                             Imf::Channel(exr_type(image.types[static_cast<size_t>(c)])));
   try {
+    for (int c = 0; c < nc; ++c)
+      header.channels().insert(image.channels[static_cast<size_t>(c)],
+                               Imf::Channel(exr_type(image.types[static_cast<size_t>(c)])));
     for (const auto& [key, value] : image.attributes) {
       if (key == kDateTime && value.empty()) continue;
       header.insert(key == kDateTime ? std::string(kExrDateTime) : key, Imf::StringAttribute(value));
     }
+    // An image read from another tool's file may bring a text attribute of this name (a `sylva
+    // compare --report` copies its inputs' attributes); it is kept as it came, since OpenEXR refuses
+    // to give one name two types.
+    if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0 &&
+        header.find("chromaticities") == header.end()) {
+      const auto& xy = rec709_chromaticities;
+      Imf::addChromaticities(header, Imf::Chromaticities(Imath::V2f(xy[0], xy[1]), Imath::V2f(xy[2], xy[3]),
+                                                         Imath::V2f(xy[4], xy[5]), Imath::V2f(xy[6], xy[7])));
+    }
   } catch (const std::exception& e) {
     throw Error(fmt::format("{}: cannot write the header: {}", path.string(), e.what()));
-  }
-  if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0) {
-    const auto& xy = rec709_chromaticities;
-    Imf::addChromaticities(header, Imf::Chromaticities(Imath::V2f(xy[0], xy[1]), Imath::V2f(xy[2], xy[3]),
-                                                       Imath::V2f(xy[4], xy[5]), Imath::V2f(xy[6], xy[7])));
   }
 
   // Each channel in its own type, pixel after pixel.

@@ -178,6 +178,15 @@ TEST_F(ImageFiles, NoChromaticitiesWithoutRgb) {
   EXPECT_EQ(in->spec().find_attribute("chromaticities"), nullptr);
 }
 
+// Another tool's file may have a text attribute named `chromaticities`; an image read from it (and
+// written again by `sylva compare --report`) keeps it, rather than failing on OpenEXR's type clash.
+TEST_F(ImageFiles, TextChromaticitiesAttributeIsKept) {
+  Image image = make_image(2, 2, {"R", "G", "B"});
+  image.set_attribute("chromaticities", "rec709");
+  write_exr(dir_ / "text.exr", image);
+  EXPECT_EQ(read_exr(dir_ / "text.exr").attribute("chromaticities"), "rec709");
+}
+
 TEST_F(ImageFiles, OverwriteReplacesAndLeavesNoTemporary) {
   Image image = make_image(3, 2, {"Y"});
   const fs::path path = dir_ / "a.exr";
