@@ -92,52 +92,67 @@ constexpr std::array<RequiredExrAttribute, 9> kRequiredExrAttributes{{
 }};
 constexpr uint32_t kExrTiledFlag = 0x200;
 
+// The longest attribute or type name OpenEXR reads (with the long-names flag), and the longest
+// channel list within kMaxImageChannels: per channel its name and NUL, pixel type, pLinear and 3
+// reserved bytes, x and y sampling; then the list's closing NUL.
+constexpr size_t kMaxExrName = 255;
+constexpr int64_t kMaxExrChannelList = int64_t{kMaxImageChannels} * (kMaxExrName + 1 + 16) + 1;
+
 // OpenEXR allocates from its header's windows while opening a file (the line-offset table), before
 // OpenImageIO reports a spec, and spends seconds and gigabytes on a header without a data window,
 // so the header of an EXR is read and checked first. Walks the attributes of the first part
-// (OpenEXR file layout: magic, version, then name\0 type\0 size value until an empty name): every
-// required attribute must be there with its type and size, and dataWindow, displayWindow (box2i)
-// and channels (chlist) must be within the limits. A file that ends inside its header is refused;
-// a header longer than the 64 KiB read here is left to OpenEXR past that point.
+// (OpenEXR file layout: magic, version, then name\0 type\0 size value until an empty name), all of
+// them, reading only the values it checks and seeking past the others, so a header of any length
+// (a 70 KB one hid a missing data window from a first 64 KiB read) costs little time and memory:
+// every required attribute must be there with its type and size, and dataWindow, displayWindow
+// (box2i) and channels (chlist) must be within the limits. A file that ends inside its header is
+// refused.
 void check_exr_header(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string head(size_t{1} << 16, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
-  if (head.size() < 8 || head.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
+  std::array<char, 8> start{};
+  in.read(start.data(), start.size());
+  if (in.gcount() < 8 || std::memcmp(start.data(), "\x76\x2f\x31\x01", 4) != 0) return;
   const uint64_t file_bytes = std::filesystem::file_size(path);
-  const bool whole_file = head.size() == file_bytes;
-  const auto int32_at = [&](size_t at) {
-    int32_t v = 0;
-    std::memcpy(&v, head.data() + at, sizeof v);
-    return static_cast<int64_t>(v);
-  };
-  const auto box_sides = [&](size_t at) {
-    return std::pair{int32_at(at + 8) - int32_at(at) + 1, int32_at(at + 12) - int32_at(at + 4) + 1};
-  };
   const auto truncated = [&] {
     return Error(fmt::format("{}: the file ends inside its EXR header (truncated)", path.string()));
+  };
+  const auto read_name = [&](std::string& name) {
+    name.clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return;
+      if (name.size() == kMaxExrName)
+        throw Error(fmt::format("{}: header name '{}...' is longer than {} bytes", path.string(), name.substr(0, 32),
+                                kMaxExrName));
+      name += c;
+    }
+    throw truncated();
+  };
+  const auto int32_at = [](const std::string& bytes, size_t at) {
+    int32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    return static_cast<int64_t>(v);
+  };
+  const auto box_sides = [&](const std::string& box) {
+    return std::pair{int32_at(box, 8) - int32_at(box, 0) + 1, int32_at(box, 12) - int32_at(box, 4) + 1};
   };
   std::pair<int64_t, int64_t> data{0, 0}, display{0, 0};
   int64_t channels = 0;
   uint64_t pixel_bytes = 0;
   std::array<bool, kRequiredExrAttributes.size()> present{};
-  size_t at = 8;
-  while (at < head.size() && head[at] != '\0') {
-    const size_t name_end = head.find('\0', at);
-    const size_t type_end = name_end == std::string::npos ? name_end : head.find('\0', name_end + 1);
-    if (type_end == std::string::npos || type_end + 5 > head.size()) {
-      if (whole_file) throw truncated();
-      return;
-    }
-    const std::string name = head.substr(at, name_end - at);
-    const std::string type = head.substr(name_end + 1, type_end - name_end - 1);
-    const int64_t size = int32_at(type_end + 1);
-    const size_t value = type_end + 5;
-    if (size < 0 || value + static_cast<uint64_t>(size) > file_bytes)
+  std::string name, type, value;
+  for (;;) {
+    read_name(name);
+    if (name.empty()) break;
+    read_name(type);
+    std::array<char, 4> size_bytes{};
+    if (!in.read(size_bytes.data(), size_bytes.size())) throw truncated();
+    int32_t size32 = 0;
+    std::memcpy(&size32, size_bytes.data(), sizeof size32);
+    const int64_t size = size32;
+    const auto at = static_cast<uint64_t>(in.tellg());
+    if (size < 0 || at + static_cast<uint64_t>(size) > file_bytes)
       throw Error(fmt::format("{}: header attribute '{}' claims {} bytes, more than the file holds", path.string(),
                               name, size));
-    if (value + static_cast<uint64_t>(size) > head.size()) return;
     for (size_t r = 0; r < kRequiredExrAttributes.size(); ++r) {
       const RequiredExrAttribute& required = kRequiredExrAttributes[r];
       if (name != required.name) continue;
@@ -146,29 +161,36 @@ void check_exr_header(const std::filesystem::path& path) {
                                 type, size, required.type));
       present[r] = true;
     }
+    if (name != "dataWindow" && name != "displayWindow" && name != "channels") {
+      in.seekg(size, std::ios::cur);
+      continue;
+    }
+    if (size > kMaxExrChannelList)
+      throw Error(fmt::format("{}: a channel list of {} bytes names more than the limit of {} channels", path.string(),
+                              size, kMaxImageChannels));
+    value.resize(static_cast<size_t>(size));
+    if (!in.read(value.data(), size)) throw truncated();
     if (name == "dataWindow") data = box_sides(value);
     if (name == "displayWindow") display = box_sides(value);
     if (name == "channels") {
       // name\0, pixel type (0 uint, 1 half, 2 float), pLinear, 3 reserved, x and y sampling.
-      for (size_t c = value; c < value + static_cast<size_t>(size) && head[c] != '\0';) {
-        const size_t channel_end = head.find('\0', c);
-        if (channel_end == std::string::npos || channel_end + 17 > value + static_cast<size_t>(size)) break;
+      for (size_t c = 0; c < value.size() && value[c] != '\0';) {
+        const size_t channel_end = value.find('\0', c);
+        if (channel_end == std::string::npos || channel_end + 17 > value.size()) break;
         ++channels;
-        pixel_bytes += int32_at(channel_end + 1) == 1 ? 2 : 4;
+        pixel_bytes += int32_at(value, channel_end + 1) == 1 ? 2 : 4;
         c = channel_end + 17;
       }
     }
-    at = value + static_cast<size_t>(size);
   }
-  if (at >= head.size()) {
-    if (whole_file) throw truncated();
-    return;
-  }
-  const bool tiled = (static_cast<uint32_t>(int32_at(4)) & kExrTiledFlag) != 0;
+  uint32_t version = 0;  // the format version in its low byte, then flags
+  std::memcpy(&version, start.data() + 4, sizeof version);
+  const bool tiled = (version & kExrTiledFlag) != 0;
   std::string missing;
   for (size_t r = 0; r < kRequiredExrAttributes.size(); ++r) {
-    const std::string_view name = kRequiredExrAttributes[r].name;
-    if (!present[r] && (name != "tiles" || tiled)) missing += fmt::format("{}'{}'", missing.empty() ? "" : ", ", name);
+    const std::string_view required = kRequiredExrAttributes[r].name;
+    if (!present[r] && (required != "tiles" || tiled))
+      missing += fmt::format("{}'{}'", missing.empty() ? "" : ", ", required);
   }
   if (!missing.empty())
     throw Error(fmt::format("{}: the EXR header lacks the required attribute(s) {}", path.string(), missing));
