@@ -47,6 +47,34 @@ struct ImageHeaderSizes {
   uint64_t stored_pixel_bytes;  // bytes of one stored pixel, all channels, before compression
 };
 
+// Text from a file, for a one-line message: a corrupt header's names hold any byte, so control
+// bytes (line breaks among them) are shown as \xNN.
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f)
+      out += fmt::format("\\x{:02x}", byte);
+    else
+      out += c;
+  }
+  return out;
+}
+
+// A reader's error as one line: OpenImageIO reports every error it recorded on a line of its own (a
+// PNG cut inside its pixel data gives libpng's message, then "PNG read error: ...", then "PNG
+// library error"), joined here with "; "; OpenEXR's messages quote names from the file as they are.
+std::string one_line(std::string_view text) {
+  std::string line;
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view part = text.substr(at, end - at);
+    if (part.find_first_not_of(" \t\r") != std::string_view::npos) line += (line.empty() ? "" : "; ") + printable(part);
+    at = end + 1;
+  }
+  return line;
+}
+
 void check_image_header(const std::filesystem::path& path, const ImageHeaderSizes& h) {
   const auto side_ok = [](int64_t side) { return side >= 0 && side <= kMaxImageSide; };
   if (!side_ok(h.display_width) || !side_ok(h.display_height) || !side_ok(h.data_width) || !side_ok(h.data_height))
@@ -121,8 +149,8 @@ void check_exr_header(const std::filesystem::path& path) {
     for (char c; in.get(c);) {
       if (c == '\0') return;
       if (name.size() == kMaxExrName)
-        throw Error(fmt::format("{}: header name '{}...' is longer than {} bytes", path.string(), name.substr(0, 32),
-                                kMaxExrName));
+        throw Error(fmt::format("{}: header name '{}...' is longer than {} bytes", path.string(),
+                                printable(name.substr(0, 32)), kMaxExrName));
       name += c;
     }
     throw truncated();
@@ -152,13 +180,13 @@ void check_exr_header(const std::filesystem::path& path) {
     const auto at = static_cast<uint64_t>(in.tellg());
     if (size < 0 || at + static_cast<uint64_t>(size) > file_bytes)
       throw Error(fmt::format("{}: header attribute '{}' claims {} bytes, more than the file holds", path.string(),
-                              name, size));
+                              printable(name), size));
     for (size_t r = 0; r < kRequiredExrAttributes.size(); ++r) {
       const RequiredExrAttribute& required = kRequiredExrAttributes[r];
       if (name != required.name) continue;
       if (type != required.type || (required.size >= 0 && size != required.size))
         throw Error(fmt::format("{}: header attribute '{}' is a {} of {} bytes, expected a {}", path.string(), name,
-                                type, size, required.type));
+                                printable(type), size, required.type));
       present[r] = true;
     }
     if (name != "dataWindow" && name != "displayWindow" && name != "channels") {
@@ -272,7 +300,8 @@ class ExrReader final : public ImageReader {
     std::vector<Imf::Channel> channels;
     for (auto c = h.channels().begin(); c != h.channels().end(); ++c) {
       if (c.channel().xSampling != 1 || c.channel().ySampling != 1)
-        throw Error(fmt::format("{}: channel {} is subsampled, which Sylva does not read", path.string(), c.name()));
+        throw Error(
+            fmt::format("{}: channel {} is subsampled, which Sylva does not read", path.string(), printable(c.name())));
       names.emplace_back(c.name());
       channels.push_back(c.channel());
     }
@@ -345,21 +374,6 @@ OpenImageReaderFn oiio_module(const std::filesystem::path& file) {
     throw Error(fmt::format("{}: reading an image that is not OpenEXR needs OpenImageIO's module, not found: {}",
                             file.string(), module.second));
   return module.first;
-}
-
-// A reader's error as one line: OpenImageIO reports every error it recorded on a line of its own (a PNG
-// cut inside its pixel data gives libpng's message, then "PNG read error: ...", then "PNG library
-// error"), and every message of Sylva is one line.
-std::string one_line(std::string_view text) {
-  std::string line;
-  for (size_t at = 0; at < text.size();) {
-    const size_t end = std::min(text.find('\n', at), text.size());
-    const std::string_view part = text.substr(at, end - at);
-    if (part.find_first_not_of(" \t\r") != std::string_view::npos)
-      line += (line.empty() ? "" : "; ") + std::string(part);
-    at = end + 1;
-  }
-  return line;
 }
 
 bool is_exr(const std::filesystem::path& path) {

@@ -325,6 +325,12 @@ TEST_F(ImageFiles, HostileHeadersAreRefusedBeforeAllocating) {
   // An attribute claiming more bytes than the file has.
   const std::string huge_attribute = refusal(patched_exr(good, "pixelAspectRatio", 0, 1970601985));
   EXPECT_NE(huge_attribute.find("claims 1970601985 bytes"), std::string::npos) << huge_attribute;
+  // A name holding a line break (fuzzing made such names) is quoted on one line.
+  std::string broken_name = patched_exr(good, "pixelAspectRatio", 0, 1970601985);
+  broken_name[broken_name.find("pixelAspectRatio")] = '\n';
+  const std::string quoted = refusal(broken_name);
+  EXPECT_NE(quoted.find("'\\x0aixelAspectRatio' claims"), std::string::npos) << quoted;
+  EXPECT_EQ(quoted.find('\n'), std::string::npos) << quoted;
   // The unpatched file still reads.
   EXPECT_EQ(read_exr(good).width, 8);
 }
