@@ -47,6 +47,34 @@ struct ImageHeaderSizes {
   uint64_t stored_pixel_bytes;  // bytes of one stored pixel, all channels, before compression
 };
 
+// Text from a file, for a one-line message: a corrupt header's names hold any byte, so control
+// bytes (line breaks among them) are shown as \xNN.
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f)
+      out += fmt::format("\\x{:02x}", byte);
+    else
+      out += c;
+  }
+  return out;
+}
+
+// A reader's error as one line: OpenImageIO reports every error it recorded on a line of its own (a
+// PNG cut inside its pixel data gives libpng's message, then "PNG read error: ...", then "PNG
+// library error"), joined here with "; "; OpenEXR's messages quote names from the file as they are.
+std::string one_line(std::string_view text) {
+  std::string line;
+  for (size_t at = 0; at < text.size();) {
+    const size_t end = std::min(text.find('\n', at), text.size());
+    const std::string_view part = text.substr(at, end - at);
+    if (part.find_first_not_of(" \t\r") != std::string_view::npos) line += (line.empty() ? "" : "; ") + printable(part);
+    at = end + 1;
+  }
+  return line;
+}
+
 void check_image_header(const std::filesystem::path& path, const ImageHeaderSizes& h) {
   const auto side_ok = [](int64_t side) { return side >= 0 && side <= kMaxImageSide; };
   if (!side_ok(h.display_width) || !side_ok(h.display_height) || !side_ok(h.data_width) || !side_ok(h.data_height))
@@ -92,83 +120,105 @@ constexpr std::array<RequiredExrAttribute, 9> kRequiredExrAttributes{{
 }};
 constexpr uint32_t kExrTiledFlag = 0x200;
 
+// The longest attribute or type name OpenEXR reads (with the long-names flag), and the longest
+// channel list within kMaxImageChannels: per channel its name and NUL, pixel type, pLinear and 3
+// reserved bytes, x and y sampling; then the list's closing NUL.
+constexpr size_t kMaxExrName = 255;
+constexpr int64_t kMaxExrChannelList = int64_t{kMaxImageChannels} * (kMaxExrName + 1 + 16) + 1;
+
 // OpenEXR allocates from its header's windows while opening a file (the line-offset table), before
 // OpenImageIO reports a spec, and spends seconds and gigabytes on a header without a data window,
 // so the header of an EXR is read and checked first. Walks the attributes of the first part
-// (OpenEXR file layout: magic, version, then name\0 type\0 size value until an empty name): every
-// required attribute must be there with its type and size, and dataWindow, displayWindow (box2i)
-// and channels (chlist) must be within the limits. A file that ends inside its header is refused;
-// a header longer than the 64 KiB read here is left to OpenEXR past that point.
+// (OpenEXR file layout: magic, version, then name\0 type\0 size value until an empty name), all of
+// them, reading only the values it checks and seeking past the others, so a header of any length
+// (a 70 KB one hid a missing data window from a first 64 KiB read) costs little time and memory:
+// every required attribute must be there with its type and size, and dataWindow, displayWindow
+// (box2i) and channels (chlist) must be within the limits. A file that ends inside its header is
+// refused.
 void check_exr_header(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string head(size_t{1} << 16, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<size_t>(in.gcount()));
-  if (head.size() < 8 || head.compare(0, 4, "\x76\x2f\x31\x01") != 0) return;
+  std::array<char, 8> start{};
+  in.read(start.data(), start.size());
+  if (in.gcount() < 8 || std::memcmp(start.data(), "\x76\x2f\x31\x01", 4) != 0) return;
   const uint64_t file_bytes = std::filesystem::file_size(path);
-  const bool whole_file = head.size() == file_bytes;
-  const auto int32_at = [&](size_t at) {
-    int32_t v = 0;
-    std::memcpy(&v, head.data() + at, sizeof v);
-    return static_cast<int64_t>(v);
-  };
-  const auto box_sides = [&](size_t at) {
-    return std::pair{int32_at(at + 8) - int32_at(at) + 1, int32_at(at + 12) - int32_at(at + 4) + 1};
-  };
   const auto truncated = [&] {
     return Error(fmt::format("{}: the file ends inside its EXR header (truncated)", path.string()));
+  };
+  const auto read_name = [&](std::string& name) {
+    name.clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return;
+      if (name.size() == kMaxExrName)
+        throw Error(fmt::format("{}: header name '{}...' is longer than {} bytes", path.string(),
+                                printable(name.substr(0, 32)), kMaxExrName));
+      name += c;
+    }
+    throw truncated();
+  };
+  const auto int32_at = [](const std::string& bytes, size_t at) {
+    int32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    return static_cast<int64_t>(v);
+  };
+  const auto box_sides = [&](const std::string& box) {
+    return std::pair{int32_at(box, 8) - int32_at(box, 0) + 1, int32_at(box, 12) - int32_at(box, 4) + 1};
   };
   std::pair<int64_t, int64_t> data{0, 0}, display{0, 0};
   int64_t channels = 0;
   uint64_t pixel_bytes = 0;
   std::array<bool, kRequiredExrAttributes.size()> present{};
-  size_t at = 8;
-  while (at < head.size() && head[at] != '\0') {
-    const size_t name_end = head.find('\0', at);
-    const size_t type_end = name_end == std::string::npos ? name_end : head.find('\0', name_end + 1);
-    if (type_end == std::string::npos || type_end + 5 > head.size()) {
-      if (whole_file) throw truncated();
-      return;
-    }
-    const std::string name = head.substr(at, name_end - at);
-    const std::string type = head.substr(name_end + 1, type_end - name_end - 1);
-    const int64_t size = int32_at(type_end + 1);
-    const size_t value = type_end + 5;
-    if (size < 0 || value + static_cast<uint64_t>(size) > file_bytes)
+  std::string name, type, value;
+  for (;;) {
+    read_name(name);
+    if (name.empty()) break;
+    read_name(type);
+    std::array<char, 4> size_bytes{};
+    if (!in.read(size_bytes.data(), size_bytes.size())) throw truncated();
+    int32_t size32 = 0;
+    std::memcpy(&size32, size_bytes.data(), sizeof size32);
+    const int64_t size = size32;
+    const auto at = static_cast<uint64_t>(in.tellg());
+    if (size < 0 || at + static_cast<uint64_t>(size) > file_bytes)
       throw Error(fmt::format("{}: header attribute '{}' claims {} bytes, more than the file holds", path.string(),
-                              name, size));
-    if (value + static_cast<uint64_t>(size) > head.size()) return;
+                              printable(name), size));
     for (size_t r = 0; r < kRequiredExrAttributes.size(); ++r) {
       const RequiredExrAttribute& required = kRequiredExrAttributes[r];
       if (name != required.name) continue;
       if (type != required.type || (required.size >= 0 && size != required.size))
         throw Error(fmt::format("{}: header attribute '{}' is a {} of {} bytes, expected a {}", path.string(), name,
-                                type, size, required.type));
+                                printable(type), size, required.type));
       present[r] = true;
     }
+    if (name != "dataWindow" && name != "displayWindow" && name != "channels") {
+      in.seekg(size, std::ios::cur);
+      continue;
+    }
+    if (size > kMaxExrChannelList)
+      throw Error(fmt::format("{}: a channel list of {} bytes names more than the limit of {} channels", path.string(),
+                              size, kMaxImageChannels));
+    value.resize(static_cast<size_t>(size));
+    if (!in.read(value.data(), size)) throw truncated();
     if (name == "dataWindow") data = box_sides(value);
     if (name == "displayWindow") display = box_sides(value);
     if (name == "channels") {
       // name\0, pixel type (0 uint, 1 half, 2 float), pLinear, 3 reserved, x and y sampling.
-      for (size_t c = value; c < value + static_cast<size_t>(size) && head[c] != '\0';) {
-        const size_t channel_end = head.find('\0', c);
-        if (channel_end == std::string::npos || channel_end + 17 > value + static_cast<size_t>(size)) break;
+      for (size_t c = 0; c < value.size() && value[c] != '\0';) {
+        const size_t channel_end = value.find('\0', c);
+        if (channel_end == std::string::npos || channel_end + 17 > value.size()) break;
         ++channels;
-        pixel_bytes += int32_at(channel_end + 1) == 1 ? 2 : 4;
+        pixel_bytes += int32_at(value, channel_end + 1) == 1 ? 2 : 4;
         c = channel_end + 17;
       }
     }
-    at = value + static_cast<size_t>(size);
   }
-  if (at >= head.size()) {
-    if (whole_file) throw truncated();
-    return;
-  }
-  const bool tiled = (static_cast<uint32_t>(int32_at(4)) & kExrTiledFlag) != 0;
+  uint32_t version = 0;  // the format version in its low byte, then flags
+  std::memcpy(&version, start.data() + 4, sizeof version);
+  const bool tiled = (version & kExrTiledFlag) != 0;
   std::string missing;
   for (size_t r = 0; r < kRequiredExrAttributes.size(); ++r) {
-    const std::string_view name = kRequiredExrAttributes[r].name;
-    if (!present[r] && (name != "tiles" || tiled)) missing += fmt::format("{}'{}'", missing.empty() ? "" : ", ", name);
+    const std::string_view required = kRequiredExrAttributes[r].name;
+    if (!present[r] && (required != "tiles" || tiled))
+      missing += fmt::format("{}'{}'", missing.empty() ? "" : ", ", required);
   }
   if (!missing.empty())
     throw Error(fmt::format("{}: the EXR header lacks the required attribute(s) {}", path.string(), missing));
@@ -250,7 +300,8 @@ class ExrReader final : public ImageReader {
     std::vector<Imf::Channel> channels;
     for (auto c = h.channels().begin(); c != h.channels().end(); ++c) {
       if (c.channel().xSampling != 1 || c.channel().ySampling != 1)
-        throw Error(fmt::format("{}: channel {} is subsampled, which Sylva does not read", path.string(), c.name()));
+        throw Error(
+            fmt::format("{}: channel {} is subsampled, which Sylva does not read", path.string(), printable(c.name())));
       names.emplace_back(c.name());
       channels.push_back(c.channel());
     }
@@ -345,12 +396,12 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path, std::
     } catch (const Error&) {
       throw;
     } catch (const std::exception& e) {
-      throw Error(fmt::format("{}: cannot read image: {}", path.string(), e.what()));
+      throw Error(fmt::format("{}: cannot read image: {}", path.string(), one_line(e.what())));
     }
   }
   std::string error;
   std::unique_ptr<ImageReader> in(oiio_module(path)(path.c_str(), &error));
-  if (!in) throw Error(path.string() + ": cannot read image" + (error.empty() ? "" : ": " + error));
+  if (!in) throw Error(path.string() + ": cannot read image" + (error.empty() ? "" : ": " + one_line(error)));
   return in;
 }
 
@@ -410,21 +461,25 @@ void write_exr(const std::filesystem::path& path, const Image& image) {
   // No capture date unless the image has one, so identical images give identical files.
   Imf::Header header(image.width, image.height);
   header.compression() = Imf::ZIP_COMPRESSION;
-  for (int c = 0; c < nc; ++c)
-    header.channels().insert(image.channels[static_cast<size_t>(c)],
-                             Imf::Channel(exr_type(image.types[static_cast<size_t>(c)])));
   try {
+    for (int c = 0; c < nc; ++c)
+      header.channels().insert(image.channels[static_cast<size_t>(c)],
+                               Imf::Channel(exr_type(image.types[static_cast<size_t>(c)])));
     for (const auto& [key, value] : image.attributes) {
       if (key == kDateTime && value.empty()) continue;
       header.insert(key == kDateTime ? std::string(kExrDateTime) : key, Imf::StringAttribute(value));
     }
+    // An image read from another tool's file may bring a text attribute of this name (a `sylva
+    // compare --report` copies its inputs' attributes); it is kept as it came, since OpenEXR refuses
+    // to give one name two types.
+    if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0 &&
+        header.find("chromaticities") == header.end()) {
+      const auto& xy = rec709_chromaticities;
+      Imf::addChromaticities(header, Imf::Chromaticities(Imath::V2f(xy[0], xy[1]), Imath::V2f(xy[2], xy[3]),
+                                                         Imath::V2f(xy[4], xy[5]), Imath::V2f(xy[6], xy[7])));
+    }
   } catch (const std::exception& e) {
     throw Error(fmt::format("{}: cannot write the header: {}", path.string(), e.what()));
-  }
-  if (image.find_channel("R") >= 0 && image.find_channel("G") >= 0 && image.find_channel("B") >= 0) {
-    const auto& xy = rec709_chromaticities;
-    Imf::addChromaticities(header, Imf::Chromaticities(Imath::V2f(xy[0], xy[1]), Imath::V2f(xy[2], xy[3]),
-                                                       Imath::V2f(xy[4], xy[5]), Imath::V2f(xy[6], xy[7])));
   }
 
   // Each channel in its own type, pixel after pixel.
@@ -512,7 +567,7 @@ std::vector<float> read_planes(const std::filesystem::path& path, ImageReader& i
   const ImageFileSpec& spec = in.spec();
   std::vector<float> planes(static_cast<size_t>(spec.channels) * static_cast<size_t>(spec.width) *
                             static_cast<size_t>(spec.height));
-  if (!in.read_channels(planes.data())) throw Error(path.string() + ": cannot read pixels: " + in.error());
+  if (!in.read_channels(planes.data())) throw Error(path.string() + ": cannot read pixels: " + one_line(in.error()));
   return planes;
 }
 

@@ -178,6 +178,15 @@ TEST_F(ImageFiles, NoChromaticitiesWithoutRgb) {
   EXPECT_EQ(in->spec().find_attribute("chromaticities"), nullptr);
 }
 
+// Another tool's file may have a text attribute named `chromaticities`; an image read from it (and
+// written again by `sylva compare --report`) keeps it, rather than failing on OpenEXR's type clash.
+TEST_F(ImageFiles, TextChromaticitiesAttributeIsKept) {
+  Image image = make_image(2, 2, {"R", "G", "B"});
+  image.set_attribute("chromaticities", "rec709");
+  write_exr(dir_ / "text.exr", image);
+  EXPECT_EQ(read_exr(dir_ / "text.exr").attribute("chromaticities"), "rec709");
+}
+
 TEST_F(ImageFiles, OverwriteReplacesAndLeavesNoTemporary) {
   Image image = make_image(3, 2, {"Y"});
   const fs::path path = dir_ / "a.exr";
@@ -261,6 +270,19 @@ TEST_F(ImageFiles, ReadErrorsAreClear) {
   fs::resize_file(cut, fs::file_size(full) / 2);
   const std::string m3 = message(cut);
   EXPECT_EQ(m3.rfind(cut.string() + ": ", 0), 0u) << m3;
+
+  // A PNG cut inside its pixel data (read through OpenImageIO, which reports three errors on three
+  // lines): one line naming the file.
+  std::vector<uint8_t> rgb(64 * 64 * 3);
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>((i * 7919) % 251);
+  const fs::path png = dir_ / "full.png";
+  write_png_rgb8(png, 64, 64, rgb);
+  const fs::path cut_png = dir_ / "cut.png";
+  fs::copy_file(png, cut_png);
+  fs::resize_file(cut_png, fs::file_size(png) / 2);
+  const std::string m4 = message(cut_png);
+  EXPECT_EQ(m4.rfind(cut_png.string() + ": cannot read pixels: ", 0), 0u) << m4;
+  for (const std::string& m : {m1, m2, m3, m4}) EXPECT_EQ(m.find('\n'), std::string::npos) << m;
 }
 
 // The bytes of an EXR with one header value replaced: `field` is an attribute name, the 4 bytes at
@@ -303,6 +325,12 @@ TEST_F(ImageFiles, HostileHeadersAreRefusedBeforeAllocating) {
   // An attribute claiming more bytes than the file has.
   const std::string huge_attribute = refusal(patched_exr(good, "pixelAspectRatio", 0, 1970601985));
   EXPECT_NE(huge_attribute.find("claims 1970601985 bytes"), std::string::npos) << huge_attribute;
+  // A name holding a line break (fuzzing made such names) is quoted on one line.
+  std::string broken_name = patched_exr(good, "pixelAspectRatio", 0, 1970601985);
+  broken_name[broken_name.find("pixelAspectRatio")] = '\n';
+  const std::string quoted = refusal(broken_name);
+  EXPECT_NE(quoted.find("'\\x0aixelAspectRatio' claims"), std::string::npos) << quoted;
+  EXPECT_EQ(quoted.find('\n'), std::string::npos) << quoted;
   // The unpatched file still reads.
   EXPECT_EQ(read_exr(good).width, 8);
 }
@@ -348,9 +376,33 @@ TEST_F(ImageFiles, HeadersWithoutARequiredAttributeAreRefused) {
   // The input fuzzing found: capDate and channels, then the end of the header.
   const fs::path kept = fs::path(SYLVA_SOURCE_DIR) / "tests/data/fuzz/exr/header_without_data_window.exr";
   std::ifstream kept_in(kept, std::ios::binary);
-  const std::string m = refusal(std::string(std::istreambuf_iterator<char>(kept_in), {}));
+  const std::string kept_bytes(std::istreambuf_iterator<char>(kept_in), {});
+  const std::string m = refusal(kept_bytes);
   EXPECT_NE(m.find("lacks the required attribute(s) 'compression', 'dataWindow', 'displayWindow'"), std::string::npos)
       << m;
+  // A header of any length is walked to its end: that input behind a 70 000-byte text attribute
+  // (OpenEXR spent 1.9 GB on it when the check read only the first 64 KiB); a complete header of
+  // that length still reads.
+  std::string pad = "pad";
+  pad += '\0';
+  pad += "string";
+  pad += '\0';
+  const int32_t pad_size = 70000;
+  pad.append(reinterpret_cast<const char*>(&pad_size), sizeof pad_size);
+  pad.append(static_cast<size_t>(pad_size), 'x');
+  const std::string padded = refusal(kept_bytes.substr(0, 8) + pad + kept_bytes.substr(8));
+  EXPECT_NE(padded.find("lacks the required attribute(s) 'compression', 'dataWindow', 'displayWindow'"),
+            std::string::npos)
+      << padded;
+  Image long_header = image;
+  long_header.set_attribute("pad", std::string(70000, 'x'));
+  write_exr(dir_ / "long_header.exr", long_header);
+  EXPECT_EQ(read_exr(dir_ / "long_header.exr").attribute("pad"), std::string(70000, 'x'));
+  // A name longer than OpenEXR's 255 bytes.
+  std::string long_name = bytes;
+  long_name.insert(8, std::string(300, 'n'));
+  const std::string named = refusal(long_name);
+  EXPECT_NE(named.find("is longer than 255 bytes"), std::string::npos) << named;
   EXPECT_EQ(read_exr(good).width, 8);
 }
 
