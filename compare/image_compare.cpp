@@ -98,7 +98,7 @@ std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref, cons
     if (!only_test.empty() || !only_ref.empty()) {
       auto join = [](const std::vector<std::string>& v) {
         std::string s;
-        for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+        for (const std::string& x : v) s += (s.empty() ? "" : ", ") + printable(x);
         return s.empty() ? std::string("-") : s;
       };
       throw Error(

@@ -47,20 +47,6 @@ struct ImageHeaderSizes {
   uint64_t stored_pixel_bytes;  // bytes of one stored pixel, all channels, before compression
 };
 
-// Text from a file, for a one-line message: a corrupt header's names hold any byte, so control
-// bytes (line breaks among them) are shown as \xNN.
-std::string printable(std::string_view text) {
-  std::string out;
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte < 0x20 || byte == 0x7f)
-      out += fmt::format("\\x{:02x}", byte);
-    else
-      out += c;
-  }
-  return out;
-}
-
 // A reader's error as one line: OpenImageIO reports every error it recorded on a line of its own (a
 // PNG cut inside its pixel data gives libpng's message, then "PNG read error: ...", then "PNG
 // library error"), joined here with "; "; OpenEXR's messages quote names from the file as they are.
@@ -407,6 +393,18 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path, std::
 
 }  // namespace
 
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f)
+      out += fmt::format("\\x{:02x}", byte);
+    else
+      out += c;
+  }
+  return out;
+}
+
 int Image::find_channel(std::string_view name) const {
   for (size_t c = 0; c < channels.size(); ++c)
     if (channels[c] == name) return static_cast<int>(c);
@@ -673,7 +671,11 @@ bool write_png_file(std::FILE* file, int width, int height, png_bytepp rows, cha
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, error, png_error_handler, png_warning_handler);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
-  if (!info || setjmp(png_jmpbuf(png))) {
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {  // setjmp alone in the condition, as C requires
     png_destroy_write_struct(&png, &info);
     return false;
   }

@@ -62,6 +62,10 @@ void write_exr(const std::filesystem::path& path, const Image& image);
 
 // The largest image side Sylva renders or reads (docs/limits.md).
 inline constexpr int kMaxImageSide = 65536;
+// Text from an image file (a channel or attribute name), for a one-line message: a corrupt file's
+// names hold any byte, so control bytes (line breaks among them) are shown as \xNN.
+std::string printable(std::string_view text);
+
 // The most channels an image read by read_exr may have.
 inline constexpr int kMaxImageChannels = 1024;
 

@@ -109,6 +109,20 @@ TEST(ImageCompare, SameDistributionPassesInNearlyAllTrials) {
   EXPECT_LT(worst_share, 0.0025);
 }
 
+TEST(ImageCompare, ChannelMismatchQuotesNamesOnOneLine) {
+  // Channel names come from the files: a corrupt one can hold a line break.
+  const Image test = make_image(2, 2, {"R", "bad\nname"});
+  const Image ref = make_image(2, 2, {"R", "G"});
+  try {
+    compare_images(test, ref, {});
+    FAIL() << "channel mismatch not reported";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("only in test: bad\\x0aname"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+}
+
 TEST(ImageCompare, ThreePercentShiftFails) {
   // Low spp: no single pixel can see 3% (z ≈ 0.5), the mean-bias test does (z ≈ 30).
   {
