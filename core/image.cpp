@@ -7,6 +7,7 @@
 #include "core/memory.h"
 
 #include "core/image_reader.h"
+#include "core/png.h"
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
@@ -19,7 +20,6 @@
 #include <OpenEXR/ImfThreading.h>
 #include <dlfcn.h>
 #include <fmt/format.h>
-#include <png.h>
 
 #include <algorithm>
 #include <array>
@@ -385,6 +385,7 @@ std::unique_ptr<ImageReader> open_image(const std::filesystem::path& path, std::
       throw Error(fmt::format("{}: cannot read image: {}", path.string(), one_line(e.what())));
     }
   }
+  if (is_png(path)) return open_png_reader(path);
   std::string error;
   std::unique_ptr<ImageReader> in(oiio_module(path)(path.c_str(), &error));
   if (!in) throw Error(path.string() + ": cannot read image" + (error.empty() ? "" : ": " + one_line(error)));
@@ -653,64 +654,6 @@ Image read_exr(const std::filesystem::path& path) {
               scale[c] * plane[static_cast<size_t>(y) * static_cast<size_t>(spec.width) + static_cast<size_t>(x)];
   }
   return image;
-}
-
-namespace {
-
-// libpng reports errors through a callback that must not return: it records the message and jumps
-// back to write_png_file, which holds no object with a destructor between its setjmp and the jump.
-void png_error_handler(png_structp png, png_const_charp message) {
-  auto* out = static_cast<char*>(png_get_error_ptr(png));
-  std::snprintf(out, 256, "%s", message);
-  png_longjmp(png, 1);
-}
-
-void png_warning_handler(png_structp, png_const_charp) {}
-
-bool write_png_file(std::FILE* file, int width, int height, png_bytepp rows, char* error) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, error, png_error_handler, png_warning_handler);
-  if (!png) return false;
-  png_infop info = png_create_info_struct(png);
-  if (!info) {
-    png_destroy_write_struct(&png, nullptr);
-    return false;
-  }
-  if (setjmp(png_jmpbuf(png))) {  // setjmp alone in the condition, as C requires
-    png_destroy_write_struct(&png, &info);
-    return false;
-  }
-  png_init_io(png, file);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
-  png_write_info(png, info);
-  png_write_image(png, rows);
-  png_write_end(png, info);
-  png_destroy_write_struct(&png, &info);
-  return true;
-}
-
-}  // namespace
-
-void write_png_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
-  if (width <= 0 || height <= 0 || rgb.size() != static_cast<size_t>(width) * static_cast<size_t>(height) * 3)
-    throw Error(path.string() + ": inconsistent PNG pixels");
-  std::vector<png_bytep> rows(static_cast<size_t>(height));
-  for (int y = 0; y < height; ++y)
-    rows[static_cast<size_t>(y)] = const_cast<png_bytep>(rgb.data() + static_cast<size_t>(y) * 3 * width);
-  write_file_atomic_by_name(path, [&](const std::filesystem::path& tmp) {
-    std::FILE* file = std::fopen(tmp.c_str(), "wb");
-    if (!file) throw Error(fmt::format("{}: cannot write: {}", path.string(), std::strerror(errno)));
-    char error[256] = "out of memory";
-    const bool ok = write_png_file(file, width, height, rows.data(), error);
-    // The file is flushed to disk when committed (write_file_atomic_by_name).
-    const bool written = std::fflush(file) == 0 && !std::ferror(file);
-    const int saved_errno = errno;
-    const bool closed = std::fclose(file) == 0;
-    if (!ok) throw Error(fmt::format("{}: cannot write: {}", path.string(), error));
-    if (!written || !closed)
-      throw Error(fmt::format("{}: cannot write: {}", path.string(), std::strerror(saved_errno)));
-  });
 }
 
 std::vector<uint8_t> make_preview_rgb8(const Image& image, const PreviewOptions& options) {

@@ -1,8 +1,9 @@
 #pragma once
 
-// Reading an image file: its header, then its channels. core/image.cpp reads OpenEXR itself
-// (OpenEXR's library) and every other format (PNG and TIFF rasters, images given to `sylva compare`)
-// through OpenImageIO in a module, libsylva_oiio.so (core/oiio/reader.cpp), loaded on first use:
+// Reading an image file: its header, then its channels. core/image.cpp reads OpenEXR with
+// OpenEXR's library and PNG with libpng (core/png.h), and every other format (TIFF rasters, JPEG,
+// ... given to `sylva compare`) through OpenImageIO in a module, libsylva_oiio.so
+// (core/oiio/reader.cpp), loaded on first use:
 // linking OpenImageIO pulls in some 250 shared libraries — a quarter of a second and 120 MB at
 // every start of `sylva` — that a render, which writes EXR and PNG, never needs.
 //

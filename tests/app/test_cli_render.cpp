@@ -74,30 +74,72 @@ TEST(CliRender, DefaultSceneWritesExrAndPng) {
     }
 }
 
-// A render writes its EXR and PNG with OpenEXR and libpng: OpenImageIO (some 250 libraries, a
-// quarter of a second at start) is loaded, through its module, only to read another format
-// (core/image_reader.h). glibc's loader lists every object it loads under LD_DEBUG=files.
+// A 2×1 8-bit grey baseline TIFF (uncompressed, one strip), written byte by byte: the test binary
+// links no image library that writes TIFF.
+void write_grey_tiff(const fs::path& file, uint8_t a, uint8_t b) {
+  std::string bytes = std::string("II*\0", 4);
+  const auto u16 = [&](uint16_t v) { bytes.append({static_cast<char>(v & 0xff), static_cast<char>(v >> 8)}); };
+  const auto u32 = [&](uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  };
+  u32(8);                                                               // the first directory
+  const std::array<std::array<uint32_t, 3>, 9> entries{{{256, 3, 2},    // ImageWidth
+                                                        {257, 3, 1},    // ImageLength
+                                                        {258, 3, 8},    // BitsPerSample
+                                                        {259, 3, 1},    // Compression: none
+                                                        {262, 3, 1},    // Photometric: black is zero
+                                                        {273, 4, 122},  // StripOffsets: after the directory
+                                                        {277, 3, 1},    // SamplesPerPixel
+                                                        {278, 3, 1},    // RowsPerStrip
+                                                        {279, 4, 2}}};  // StripByteCounts
+  u16(static_cast<uint16_t>(entries.size()));
+  for (const auto& [tag, type, value] : entries) {
+    u16(static_cast<uint16_t>(tag));
+    u16(static_cast<uint16_t>(type));
+    u32(1);
+    if (type == 3) {
+      u16(static_cast<uint16_t>(value));
+      u16(0);
+    } else {
+      u32(value);
+    }
+  }
+  u32(0);  // no next directory
+  bytes.push_back(static_cast<char>(a));
+  bytes.push_back(static_cast<char>(b));
+  std::ofstream(file, std::ios::binary) << bytes;
+}
+
+// A render writes its EXR and PNG with OpenEXR and libpng, and PNG and EXR files are read with
+// them: OpenImageIO (some 250 libraries, a quarter of a second at start) is loaded, through its
+// module, only to read another format (core/image_reader.h). glibc's loader lists every object it
+// loads under LD_DEBUG=files.
 TEST(CliRender, OpenImageIoIsLoadedOnlyForOtherFormats) {
   const fs::path dir = fresh_dir("cli_oiio_module");
+  write_grey_tiff(dir / "a.tif", 10, 200);
+  const auto compare = [&](const std::string& name) {
+    return run_sylva(
+        "compare '" + (dir / name).string() + "' '" + (dir / name).string() + "' --fail 0 --fail-percent 0", dir);
+  };
   setenv("LD_DEBUG", "files", 1);
   const auto render =
       run_sylva("render '" SYLVA_SOURCE_DIR "/golden/scenes/ground_sky.toml' -o '" + (dir / "a.exr").string() +
                     "' --png '" + (dir / "a.png").string() + "' --res 16x9 --spp 1 --quiet",
                 dir);
-  const auto exr = run_sylva(
-      "compare '" + (dir / "a.exr").string() + "' '" + (dir / "a.exr").string() + "' --fail 0 --fail-percent 0", dir);
-  const auto png = run_sylva(
-      "compare '" + (dir / "a.png").string() + "' '" + (dir / "a.png").string() + "' --fail 0 --fail-percent 0", dir);
+  const auto exr = compare("a.exr"), png = compare("a.png"), tiff = compare("a.tif");
   unsetenv("LD_DEBUG");
   ASSERT_EQ(render.exit_code, 0) << render.err;
   ASSERT_EQ(exr.exit_code, 0) << exr.err;
   ASSERT_EQ(png.exit_code, 0) << png.err;
+  ASSERT_EQ(tiff.exit_code, 0) << tiff.err;
   EXPECT_NE(render.err.find("libOpenEXR"), std::string::npos);  // the loader's list is there
   EXPECT_NE(render.err.find("libpng"), std::string::npos);
   EXPECT_EQ(render.err.find("libOpenImageIO"), std::string::npos);
   EXPECT_EQ(exr.err.find("libOpenImageIO"), std::string::npos);
-  EXPECT_NE(png.err.find("libsylva_oiio.so"), std::string::npos);
-  EXPECT_NE(png.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_EQ(png.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_NE(tiff.err.find("libsylva_oiio.so"), std::string::npos);
+  EXPECT_NE(tiff.err.find("libOpenImageIO"), std::string::npos);
+  EXPECT_NE(tiff.out.find("Y "), std::string::npos) << tiff.out;  // its one channel was compared
 }
 
 TEST(CliRender, BadSceneFailsWithFileLineAndNoOutput) {

@@ -135,6 +135,34 @@ TEST_F(ImageFiles, PngPreviewIsTaggedSrgb) {
   EXPECT_FLOAT_EQ(image.at(0, 0, 2), 30.0f / 255.0f);
 }
 
+TEST_F(ImageFiles, PngSamplesAreReadByLibpngAsOpenImageIoWroteThem) {
+  // 16-bit grey (a terrain raster) keeps its integer values; 8-bit RGBA reads as normalised colour.
+  const std::vector<uint16_t> grey{0, 1, 256, 4097, 65534, 65535};
+  {
+    auto out = OIIO::ImageOutput::create("png");
+    ASSERT_TRUE(out && out->open((dir_ / "grey.png").string(), OIIO::ImageSpec(3, 2, 1, OIIO::TypeDesc::UINT16)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, grey.data()));
+    ASSERT_TRUE(out->close());
+  }
+  const Raster r = read_raster(dir_ / "grey.png");
+  ASSERT_EQ(r.type, RasterType::UInt16);
+  ASSERT_EQ(r.values.size(), grey.size());
+  for (size_t i = 0; i < grey.size(); ++i) EXPECT_EQ(r.values[i], static_cast<float>(grey[i])) << i;
+
+  const std::vector<uint8_t> rgba{0, 51, 102, 255, 255, 204, 153, 0};
+  {
+    auto out = OIIO::ImageOutput::create("png");
+    ASSERT_TRUE(out && out->open((dir_ / "rgba.png").string(), OIIO::ImageSpec(2, 1, 4, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgba.data()));
+    ASSERT_TRUE(out->close());
+  }
+  const Image image = read_exr(dir_ / "rgba.png");
+  ASSERT_EQ(image.channels, (std::vector<std::string>{"R", "G", "B", "A"}));
+  for (int x = 0; x < 2; ++x)
+    for (int c = 0; c < 4; ++c)
+      EXPECT_FLOAT_EQ(image.at(x, 0, c), static_cast<float>(rgba[static_cast<size_t>(4 * x + c)]) / 255.0f);
+}
+
 TEST_F(ImageFiles, CroppedDataWindowIsPlacedInTheDisplayWindow) {
   // As other renderers write an auto-cropped EXR: 2×1 data window at (3, 2) of a 6×4 display.
   OIIO::ImageSpec spec(2, 1, 1, OIIO::TypeDesc::FLOAT);
@@ -271,8 +299,7 @@ TEST_F(ImageFiles, ReadErrorsAreClear) {
   const std::string m3 = message(cut);
   EXPECT_EQ(m3.rfind(cut.string() + ": ", 0), 0u) << m3;
 
-  // A PNG cut inside its pixel data (read through OpenImageIO, which reports three errors on three
-  // lines): one line naming the file.
+  // A PNG cut inside its pixel data (libpng's error): one line naming the file.
   std::vector<uint8_t> rgb(64 * 64 * 3);
   for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>((i * 7919) % 251);
   const fs::path png = dir_ / "full.png";
