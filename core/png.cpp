@@ -95,6 +95,11 @@ bool read_png_rows(PngState& s, png_bytepp rows) {
   return true;
 }
 
+// libpng's message, except its "Read Error" for a file that ends early.
+std::string read_error(const PngState& s) {
+  return std::strcmp(s.error, "Read Error") == 0 ? "the file ends early (truncated)" : s.error;
+}
+
 class PngReader final : public ImageReader {
  public:
   explicit PngReader(const std::filesystem::path& path) {
@@ -103,7 +108,7 @@ class PngReader final : public ImageReader {
     png_uint_32 width = 0, height = 0;
     int channels = 0, bit_depth = 0;
     if (!read_png_header(state_, &width, &height, &channels, &bit_depth))
-      throw Error(fmt::format("{}: cannot read image: {}", path.string(), state_.error));
+      throw Error(fmt::format("{}: cannot read image: {}", path.string(), read_error(state_)));
     if (width > static_cast<png_uint_32>(kMaxSide) || height > static_cast<png_uint_32>(kMaxSide))
       throw Error(fmt::format("{}: image of {}x{} pixels is outside the limit of 0 to {} pixels per side",
                               path.string(), width, height, kMaxSide));
@@ -127,7 +132,7 @@ class PngReader final : public ImageReader {
     std::vector<png_bytep> rows(height);
     for (size_t y = 0; y < height; ++y) rows[y] = pixels.data() + y * width * nc * sample;
     if (!read_png_rows(state_, rows.data())) {
-      error_ = state_.error;
+      error_ = read_error(state_);
       return false;
     }
     const size_t plane = width * height;

@@ -309,6 +309,7 @@ TEST_F(ImageFiles, ReadErrorsAreClear) {
   fs::resize_file(cut_png, fs::file_size(png) / 2);
   const std::string m4 = message(cut_png);
   EXPECT_EQ(m4.rfind(cut_png.string() + ": cannot read pixels: ", 0), 0u) << m4;
+  EXPECT_NE(m4.find("truncated"), std::string::npos) << m4;
   for (const std::string& m : {m1, m2, m3, m4}) EXPECT_EQ(m.find('\n'), std::string::npos) << m;
 }
 
