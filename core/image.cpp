@@ -35,6 +35,9 @@
 namespace sylva {
 namespace {
 
+// The first four bytes of every OpenEXR file.
+constexpr char kExrMagic[] = "\x76\x2f\x31\x01";
+
 // No codec packs pixels much tighter than deflate's limit of about 1032:1.
 constexpr uint64_t kMaxCompressionRatio = 2048;
 
@@ -47,9 +50,9 @@ struct ImageHeaderSizes {
   uint64_t stored_pixel_bytes;  // bytes of one stored pixel, all channels, before compression
 };
 
-// A reader's error as one line: OpenImageIO reports every error it recorded on a line of its own (a
-// PNG cut inside its pixel data gives libpng's message, then "PNG read error: ...", then "PNG
-// library error"), joined here with "; "; OpenEXR's messages quote names from the file as they are.
+// A reader's error as one line: OpenImageIO reports every error it recorded on a line of its own
+// (its PNG reader gave libpng's message, then "PNG read error: ...", then "PNG library error"),
+// joined here with "; "; OpenEXR's messages quote names from the file as they are.
 std::string one_line(std::string_view text) {
   std::string line;
   for (size_t at = 0; at < text.size();) {
@@ -125,7 +128,7 @@ void check_exr_header(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::array<char, 8> start{};
   in.read(start.data(), start.size());
-  if (in.gcount() < 8 || std::memcmp(start.data(), "\x76\x2f\x31\x01", 4) != 0) return;
+  if (in.gcount() < 8 || std::memcmp(start.data(), kExrMagic, 4) != 0) return;
   const uint64_t file_bytes = std::filesystem::file_size(path);
   const auto truncated = [&] {
     return Error(fmt::format("{}: the file ends inside its EXR header (truncated)", path.string()));
@@ -366,7 +369,7 @@ bool is_exr(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[4] = {};
   in.read(magic, sizeof magic);
-  return in.gcount() == 4 && std::memcmp(magic, "\x76\x2f\x31\x01", 4) == 0;
+  return in.gcount() == 4 && std::memcmp(magic, kExrMagic, 4) == 0;
 }
 
 // Opens an image file for reading after the checks every reader shares (the file exists, is a
