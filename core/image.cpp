@@ -586,25 +586,7 @@ Raster read_raster(const std::filesystem::path& path) {
   Raster r;
   r.width = spec.width;
   r.height = spec.height;
-  switch (spec.format) {
-    case SampleType::UInt8:
-      r.type = RasterType::UInt8;
-      break;
-    case SampleType::UInt16:
-      r.type = RasterType::UInt16;
-      break;
-    case SampleType::UInt32:
-      r.type = RasterType::UInt32;
-      break;
-    case SampleType::Half:
-      r.type = RasterType::Half;
-      break;
-    case SampleType::Float:
-      r.type = RasterType::Float;
-      break;
-    case SampleType::Other:
-      r.type = RasterType::Other;
-  }
+  r.type = spec.format;
   r.values = read_planes(path, *in);
   return r;
 }

@@ -1,11 +1,14 @@
 #pragma once
-// Multi-channel images and their files: OpenEXR in and out (through OpenImageIO) and an 8-bit sRGB
-// PNG preview through an OpenColorIO display transform (core/color.h).
+// Multi-channel images and their files: OpenEXR in and out (OpenEXR's library), other formats in
+// (PNG through libpng, the rest through OpenImageIO's module: core/image_reader.h), and an 8-bit
+// sRGB PNG preview through an OpenColorIO display transform (core/color.h).
 //
 // Channel names follow the EXR layer convention: "R","G","B","A", "nir.Y", "Z", "N.X", "albedo.R",
 // "id.instance", and "var.<C>" for the variance of the pixel mean of channel C (image_compare.h).
 // Files are written atomically (core/atomic_file.h): on failure <path> is left untouched and a
 // sylva::Error naming it is thrown.
+
+#include "core/image_reader.h"
 
 #include <array>
 #include <cstdint>
@@ -81,14 +84,15 @@ Image read_exr(const std::filesystem::path& path);
 
 // A single-channel raster as stored (elevation maps, feature maps): integer samples keep their
 // integer values (a 16-bit PNG's 65535 reads as 65535.0, not 1.0), floats are read as they are.
-enum class RasterType : uint8_t { UInt8, UInt16, UInt32, Half, Float, Other };
+// Its sample types are those an image file's header gives (core/image_reader.h).
+using RasterType = SampleType;
 struct Raster {
   int width = 0, height = 0;
   RasterType type = RasterType::Other;
   std::vector<float> values;  // values[y·width + x], top row first
 };
 std::string_view raster_type_name(RasterType type);  // "8-bit unsigned", "16-bit unsigned", ...
-// Reads any image OpenImageIO reads (PNG, TIFF, EXR, ...) that has exactly one channel. Throws
+// Reads any image with exactly one channel (PNG, EXR, or another format OpenImageIO reads). Throws
 // sylva::Error("path: why") for missing, unreadable or multi-channel files.
 Raster read_raster(const std::filesystem::path& path);
 
