@@ -11,6 +11,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <limits>
 
 namespace sylva {
@@ -26,14 +27,34 @@ Vec2 leaf_quad_coordinates(unsigned triangle, float b1, float b2) {
   return (triangle & 1u) ? Vec2(1.0f - b1, 1.0f - b2) : Vec2(b1, b2);
 }
 
-// Leaf alpha: reject hits outside the leaf outline (Weber & Penn §4.5 leaf shapes).
+// What the leaf filters read: the outlines, and the corners Integrator::interaction will read for
+// the closest hit. When every leaf of the geometry has one outline (the common case) it is kept
+// here, so a candidate hit costs no load of its own leaf's record.
+struct LeafFilterData {
+  const LeafShape* shapes = nullptr;
+  const Vec3* corners = nullptr;
+  bool one_shape = false;
+  LeafShape shape = LeafShape::Rectangle;
+};
+
+// Leaf alpha: reject hits outside the leaf outline (Weber & Penn §4.5 leaf shapes). A candidate the
+// closest-hit query keeps may be the hit the integrator shades: its corners are fetched now, while
+// Embree goes on traversing, instead of stalling Integrator::interaction (bench/README.md, "Memory
+// stalls"). Shadow rays (kPrefetch false) never read them.
+template <bool kPrefetch>
 void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
-  const auto* shapes = static_cast<const LeafShape*>(args->geometryUserPtr);
+  const auto& data = *static_cast<const LeafFilterData*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
     const Vec2 uv = leaf_quad_coordinates(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
-    if (!leaf_shape_inside(shapes[prim >> 1], uv.x, uv.y)) args->valid[i] = 0;
+    const LeafShape shape = data.one_shape ? data.shape : data.shapes[prim >> 1];
+    if (!leaf_shape_inside(shape, uv.x, uv.y)) {
+      args->valid[i] = 0;
+    } else if constexpr (kPrefetch) {
+      __builtin_prefetch(data.corners + 4 * size_t(prim >> 1));
+      __builtin_prefetch(data.corners + 4 * size_t(prim >> 1) + 3);
+    }
   }
 }
 
@@ -294,6 +315,7 @@ struct EmbreeScene::Impl {
   std::vector<uint8_t> embree_curves;   // per prototype: its curves are Embree curves, not strips
   std::vector<unsigned> disc_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
+  std::deque<LeafFilterData> leaf_filters;  // user data of the leaf geometries (stable addresses)
   // The instance array (uses_instance_array): per prototype its object-space bounds; `array` points
   // into them, the prototypes' scenes and the Scene's instances.
   std::vector<Bounds3> prototype_bounds;
@@ -379,9 +401,14 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
         const unsigned halves[6] = {c, c + 1, c + 3, c + 2, c + 3, c + 1};
         std::copy(halves, halves + 6, idx + 6 * i);
       }
-      rtcSetGeometryUserData(g, const_cast<LeafShape*>(lq.shapes.data()));
-      rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter);
-      if (!faults.no_shadow_alpha) rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter);
+      LeafFilterData& filter = impl_->leaf_filters.emplace_back();
+      filter.shapes = lq.shapes.data();
+      filter.corners = lq.corners.data();
+      filter.one_shape = std::all_of(lq.shapes.begin(), lq.shapes.end(), [&](LeafShape s) { return s == lq.shapes[0]; });
+      filter.shape = lq.shapes[0];
+      rtcSetGeometryUserData(g, &filter);
+      rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter<true>);
+      if (!faults.no_shadow_alpha) rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter<false>);
       rtcCommitGeometry(g);
       leaf_id = rtcAttachGeometry(s, g);
       rtcReleaseGeometry(g);
