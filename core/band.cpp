@@ -156,7 +156,7 @@ WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
   std::vector<float> w(kLambdaSamples - 1, 0.0f);
   for (const Band& b : bands)
     for (int i = 0; i + 1 < kLambdaSamples; ++i) w[i] += 0.5f * (b.importance[i] + b.importance[i + 1]);
-  distribution_ = Distribution1D(std::move(w));
+  distribution_ = Distribution1D(w);
 }
 
 SampledWavelengths WavelengthSampler::sample(float u) const {

@@ -18,69 +18,77 @@ Vec2 sample_uniform_disk(Vec2 u) {
   return r * Vec2(std::cos(theta), std::sin(theta));
 }
 
-Distribution1D::Distribution1D(std::vector<float> weights) : weights_(std::move(weights)) {
-  const int n = size();
-  cdf_.assign(n + 1, 0.0f);
+float Distribution1D::tabulate(const float* weights, int n, DistributionBin* bins, uint32_t* guide) {
   double acc = 0;
   std::vector<double> cdf(n + 1, 0.0);
   for (int i = 0; i < n; ++i) {
-    acc += std::max(0.0f, weights_[i]);
+    acc += std::max(0.0f, weights[i]);
     cdf[i + 1] = acc;
   }
-  integral_ = n > 0 ? static_cast<float>(acc / n) : 0.0f;
-  for (int i = 0; i <= n; ++i)
-    cdf_[i] = acc > 0 ? static_cast<float>(cdf[i] / acc) : static_cast<float>(i) / std::max(1, n);
-  if (n > 0) cdf_[n] = 1.0f;
-  guide_.resize(n);
+  const float integral = n > 0 ? static_cast<float>(acc / n) : 0.0f;
+  for (int i = 0; i <= n; ++i) {
+    bins[i].cdf = acc > 0 ? static_cast<float>(cdf[i] / acc) : static_cast<float>(i) / std::max(1, n);
+    bins[i].pdf = i == n ? 0.0f : integral > 0 ? std::max(0.0f, weights[i]) / integral : 1.0f;
+  }
+  if (n > 0) bins[n].cdf = 1.0f;
   for (int k = 0, i = 0; k < n; ++k) {
     const float x = static_cast<float>(k) / static_cast<float>(n);
-    while (i + 1 < n && cdf_[i + 1] <= x) ++i;
-    guide_[k] = i;
+    while (i + 1 < n && bins[i + 1].cdf <= x) ++i;
+    guide[k] = static_cast<uint32_t>(i);
   }
+  return integral;
 }
 
-float Distribution1D::sample(float u, float* pdf, int* bin) const {
-  const int n = size();
+Distribution1D::Distribution1D(const std::vector<float>& weights)
+    : bins_(weights.size() + 1), guide_(weights.size()) {
+  integral_ = tabulate(weights.data(), static_cast<int>(weights.size()), bins_.data(), guide_.data());
+}
+
+float sample_bins(const DistributionBin* bins, const uint32_t* guide, int n, float u, float* pdf, int* bin) {
   // Last bin whose cdf start is <= u (found from the guide table: O(1) on average), then back over
   // bins with no mass.
-  int i = guide_[std::clamp(static_cast<int>(u * static_cast<float>(n)), 0, n - 1)];
-  while (i > 0 && cdf_[i] > u) --i;
-  while (i + 1 < n && cdf_[i + 1] <= u) ++i;
-  while (i > 0 && cdf_[i + 1] == cdf_[i]) --i;
-  const float width = cdf_[i + 1] - cdf_[i];
-  const float du = width > 0 ? (u - cdf_[i]) / width : 0.5f;
-  if (pdf) *pdf = integral_ > 0 ? std::max(0.0f, weights_[i]) / integral_ : 1.0f;
+  int i = static_cast<int>(guide[std::clamp(static_cast<int>(u * static_cast<float>(n)), 0, n - 1)]);
+  while (i > 0 && bins[i].cdf > u) --i;
+  while (i + 1 < n && bins[i + 1].cdf <= u) ++i;
+  while (i > 0 && bins[i + 1].cdf == bins[i].cdf) --i;
+  const float width = bins[i + 1].cdf - bins[i].cdf;
+  const float du = width > 0 ? (u - bins[i].cdf) / width : 0.5f;
+  if (pdf) *pdf = bins[i].pdf;
   if (bin) *bin = i;
   return std::min((static_cast<float>(i) + std::clamp(du, 0.0f, 1.0f)) / static_cast<float>(n), 0x1.fffffep-1f);
 }
 
-Distribution2D::Distribution2D(const std::vector<float>& weights, int nu, int nv) {
-  conditional_.reserve(nv);
+Distribution2D::Distribution2D(const std::vector<float>& weights, int nu, int nv)
+    : nu_(nu),
+      row_bins_(static_cast<size_t>(nu + 1) * static_cast<size_t>(nv)),
+      row_guides_(static_cast<size_t>(nu) * static_cast<size_t>(nv)) {
   std::vector<float> row_mass(nv);
-  for (int v = 0; v < nv; ++v) {
-    conditional_.emplace_back(std::vector<float>(weights.begin() + v * nu, weights.begin() + (v + 1) * nu));
-    row_mass[v] = conditional_.back().integral();
-  }
-  marginal_ = Distribution1D(std::move(row_mass));
-  nu_ = nu;
+  for (int v = 0; v < nv; ++v)
+    row_mass[v] = Distribution1D::tabulate(weights.data() + static_cast<size_t>(v) * nu, nu,
+                                           row_bins_.data() + static_cast<size_t>(v) * (nu + 1),
+                                           row_guides_.data() + static_cast<size_t>(v) * nu);
+  marginal_ = Distribution1D(row_mass);
   pdf_.resize(static_cast<size_t>(nu) * static_cast<size_t>(nv));
   for (int v = 0; v < nv; ++v)
     for (int u = 0; u < nu; ++u)
-      pdf_[static_cast<size_t>(v) * nu + u] = marginal_.bin_pdf(v) * conditional_[v].bin_pdf(u);
+      pdf_[static_cast<size_t>(v) * nu + u] =
+          marginal_.bin_pdf(v) * row_bins_[static_cast<size_t>(v) * (nu + 1) + static_cast<size_t>(u)].pdf;
 }
 
 Vec2 Distribution2D::sample(Vec2 u, float* pdf) const {
   float pdf_v = 0, pdf_u = 0;
   int row = 0;
   const float v = marginal_.sample(u.y, &pdf_v, &row);
-  const float uu = conditional_[row].sample(u.x, &pdf_u);
+  const float uu = sample_bins(row_bins_.data() + static_cast<size_t>(row) * (nu_ + 1),
+                               row_guides_.data() + static_cast<size_t>(row) * nu_, nu_, u.x, &pdf_u, nullptr);
   if (pdf) *pdf = pdf_v * pdf_u;
   return {uu, v};
 }
 
 float Distribution2D::pdf(Vec2 p) const {
   const int row = marginal_.bin_of(p.y);
-  return pdf_[static_cast<size_t>(row) * nu_ + conditional_[row].bin_of(p.x)];
+  const int column = std::clamp(static_cast<int>(p.x * static_cast<float>(nu_)), 0, nu_ - 1);
+  return pdf_[static_cast<size_t>(row) * nu_ + column];
 }
 
 }  // namespace sylva

@@ -34,26 +34,43 @@ inline Vec3 sample_uniform_sphere(Vec2 u) {
   return spherical_direction(safe_sqrt(1.0f - z * z), z, kTwoPi * u.y);
 }
 
+// One bin of a tabulated distribution: where its cumulative mass starts and its density, side by
+// side so the sampler's search and the density it returns share a cache line (these tables are
+// read once per wavelength and sky sample, usually after Embree's traversal has evicted them).
+struct DistributionBin {
+  float cdf = 0;  // cumulative mass before the bin, in [0, 1]
+  float pdf = 0;  // density on [0, 1) over the bin
+};
+
+// Inverse-CDF sampling over n bins of `bins` (n + 1 entries, the last {1, 0}) with the cut-point
+// guide table `guide` (guide[k]: last bin whose cdf start ≤ k/n): the continuous sample in [0, 1),
+// its density and its bin.
+float sample_bins(const DistributionBin* bins, const uint32_t* guide, int n, float u, float* pdf, int* bin);
+
 // Piecewise-constant 1-D distribution over [0, 1) with n equal bins.
 class Distribution1D {
  public:
   Distribution1D() = default;
-  explicit Distribution1D(std::vector<float> weights);
+  explicit Distribution1D(const std::vector<float>& weights);
 
   // Continuous sample in [0,1); `pdf` is the density on [0,1); `bin` the chosen bin.
-  float sample(float u, float* pdf, int* bin = nullptr) const;
+  float sample(float u, float* pdf, int* bin = nullptr) const {
+    return sample_bins(bins_.data(), guide_.data(), size(), u, pdf, bin);
+  }
   float pdf(float x) const { return bin_pdf(bin_of(x)); }
   // The density on [0,1) over bin i, and the bin holding x.
-  float bin_pdf(int i) const { return integral_ > 0 ? std::max(0.0f, weights_[i]) / integral_ : 1.0f; }
+  float bin_pdf(int i) const { return bins_[i].pdf; }
   int bin_of(float x) const { return std::clamp(static_cast<int>(x * static_cast<float>(size())), 0, size() - 1); }
-  int size() const { return static_cast<int>(weights_.size()); }
+  int size() const { return static_cast<int>(guide_.size()); }
   float integral() const { return integral_; }  // mean of the weights
-  float weight(int i) const { return weights_[i]; }
+
+  // The tables of `weights` (n of them) written into bins[0..n] and guide[0..n); returns the mean
+  // weight. Distribution2D keeps its rows' tables in one array this way.
+  static float tabulate(const float* weights, int n, DistributionBin* bins, uint32_t* guide);
 
  private:
-  std::vector<float> weights_;
-  std::vector<float> cdf_;  // size n+1
-  std::vector<int> guide_;  // guide_[k]: last bin whose cdf start ≤ k/n (cut-point search)
+  std::vector<DistributionBin> bins_;  // n + 1
+  std::vector<uint32_t> guide_;        // n
   float integral_ = 0;
 };
 
@@ -67,9 +84,11 @@ class Distribution2D {
   float pdf(Vec2 p) const;
 
  private:
-  std::vector<Distribution1D> conditional_;
   Distribution1D marginal_;
   int nu_ = 0;
+  // The rows' conditional tables, row v at v·(nu + 1) and v·nu: one array each, no per-row header.
+  std::vector<DistributionBin> row_bins_;
+  std::vector<uint32_t> row_guides_;
   std::vector<float> pdf_;  // per cell (row-major): the marginal's density times the row's, one lookup
 };
 
