@@ -5,10 +5,12 @@
 #include "geometry/leaf_shape.h"
 
 #include <embree3/rtcore.h>
+#include <immintrin.h>
 #include <fmt/core.h>
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -222,18 +224,15 @@ void array_bounds(const RTCBoundsFunctionArguments* args) {
 }
 
 // An Embree ray from `o` along `d` over [tnear, tfar], all mask bits set.
-RTCRay rtc_ray(const Vec3& o, const Vec3& d, float tnear, float tfar) {
-  RTCRay r{};
-  r.org_x = o.x;
-  r.org_y = o.y;
-  r.org_z = o.z;
-  r.dir_x = d.x;
-  r.dir_y = d.y;
-  r.dir_z = d.z;
-  r.tnear = tnear;
-  r.tfar = tfar;
-  r.mask = 0xffffffffu;
-  return r;
+// Fills `r` in place with three 16-byte stores, the width in which Embree loads it: a ray built
+// elsewhere and copied, or stored a field at a time, is read back in 16-byte loads of 4-byte
+// stores, which the processor cannot forward (a stall per ray, 1-2 % of a render).
+void set_rtc_ray(RTCRay& r, const Vec3& o, const Vec3& d, float tnear, float tfar) {
+  static_assert(sizeof(RTCRay) == 48 && alignof(RTCRay) == 16);
+  _mm_store_ps(&r.org_x, _mm_setr_ps(o.x, o.y, o.z, tnear));
+  _mm_store_ps(&r.dir_x, _mm_setr_ps(d.x, d.y, d.z, 0.0f));                            // time 0
+  _mm_store_si128(reinterpret_cast<__m128i*>(&r.tfar),
+                  _mm_setr_epi32(std::bit_cast<int>(tfar), -1, 0, 0));  // mask all, id 0, flags 0
 }
 
 // Ray `j` of `rays` moved into the object space of array primitive `prim`.
@@ -247,7 +246,8 @@ RTCRay array_object_ray(const InstanceArray& a, unsigned prim, RTCRayN* rays, un
   const Vec3 d(RTCRayN_dir_x(rays, n, j), RTCRayN_dir_y(rays, n, j), RTCRayN_dir_z(rays, n, j));
   const Vec3 o_obj = object_from_world * (o - origin);
   const Vec3 d_obj = object_from_world * d;
-  RTCRay r = rtc_ray(o_obj, d_obj, RTCRayN_tnear(rays, n, j), RTCRayN_tfar(rays, n, j));
+  RTCRay r;
+  set_rtc_ray(r, o_obj, d_obj, RTCRayN_tnear(rays, n, j), RTCRayN_tfar(rays, n, j));
   r.time = RTCRayN_time(rays, n, j);
   r.mask = RTCRayN_mask(rays, n, j);
   return r;
@@ -725,8 +725,8 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_ma
 bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh{};
-  rh.ray = rtc_ray(ray.origin, ray.direction, 0.0f, ray.t_max);
+  RTCRayHit rh;  // Embree reads only the ray and the hit's ids
+  set_rtc_ray(rh.ray, ray.origin, ray.direction, 0.0f, ray.t_max);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(impl_->top, &context, &rh);
@@ -758,7 +758,8 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
 bool EmbreeScene::occluded_cell(const Vec3& origin, const Vec3& direction, float t_max) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray = rtc_ray(origin, direction, 0.0f, t_max);
+  RTCRay ray;
+  set_rtc_ray(ray, origin, direction, 0.0f, t_max);
   rtcOccluded1(impl_->top, &context, &ray);
   return ray.tfar < 0.0f;
 }
