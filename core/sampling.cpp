@@ -39,8 +39,7 @@ float Distribution1D::tabulate(const float* weights, int n, DistributionBin* bin
   return integral;
 }
 
-Distribution1D::Distribution1D(const std::vector<float>& weights)
-    : bins_(weights.size() + 1), guide_(weights.size()) {
+Distribution1D::Distribution1D(const std::vector<float>& weights) : bins_(weights.size() + 1), guide_(weights.size()) {
   integral_ = tabulate(weights.data(), static_cast<int>(weights.size()), bins_.data(), guide_.data());
 }
 

@@ -5,8 +5,11 @@
 #include "geometry/leaf_shape.h"
 
 #include <embree3/rtcore.h>
-#include <immintrin.h>
 #include <fmt/core.h>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <atomic>
@@ -223,16 +226,20 @@ void array_bounds(const RTCBoundsFunctionArguments* args) {
   *args->bounds_o = RTCBounds{b.lo.x, b.lo.y, b.lo.z, 0.0f, b.hi.x, b.hi.y, b.hi.z, 0.0f};
 }
 
-// An Embree ray from `o` along `d` over [tnear, tfar], all mask bits set.
-// Fills `r` in place with three 16-byte stores, the width in which Embree loads it: a ray built
-// elsewhere and copied, or stored a field at a time, is read back in 16-byte loads of 4-byte
-// stores, which the processor cannot forward (a stall per ray, 1-2 % of a render).
+// The Embree ray from `o` along `d` over [tnear, tfar], all mask bits set, written in place with
+// three 16-byte stores, the width in which Embree loads it: a ray built elsewhere and copied, or
+// stored a field at a time, is read back in 16-byte loads of 4-byte stores, which the processor
+// cannot forward (a stall per ray, 1-2 % of a render).
 void set_rtc_ray(RTCRay& r, const Vec3& o, const Vec3& d, float tnear, float tfar) {
   static_assert(sizeof(RTCRay) == 48 && alignof(RTCRay) == 16);
+#if defined(__SSE2__)
   _mm_store_ps(&r.org_x, _mm_setr_ps(o.x, o.y, o.z, tnear));
-  _mm_store_ps(&r.dir_x, _mm_setr_ps(d.x, d.y, d.z, 0.0f));                            // time 0
+  _mm_store_ps(&r.dir_x, _mm_setr_ps(d.x, d.y, d.z, 0.0f));  // time 0
   _mm_store_si128(reinterpret_cast<__m128i*>(&r.tfar),
                   _mm_setr_epi32(std::bit_cast<int>(tfar), -1, 0, 0));  // mask all, id 0, flags 0
+#else
+  r = RTCRay{o.x, o.y, o.z, tnear, d.x, d.y, d.z, 0.0f, tfar, 0xffffffffu, 0, 0};
+#endif
 }
 
 // Ray `j` of `rays` moved into the object space of array primitive `prim`.
@@ -404,7 +411,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
       LeafFilterData& filter = impl_->leaf_filters.emplace_back();
       filter.shapes = lq.shapes.data();
       filter.corners = lq.corners.data();
-      filter.one_shape = std::all_of(lq.shapes.begin(), lq.shapes.end(), [&](LeafShape s) { return s == lq.shapes[0]; });
+      filter.one_shape =
+          std::all_of(lq.shapes.begin(), lq.shapes.end(), [&](LeafShape s) { return s == lq.shapes[0]; });
       filter.shape = lq.shapes[0];
       rtcSetGeometryUserData(g, &filter);
       rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter<true>);

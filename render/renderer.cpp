@@ -132,7 +132,8 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
       p.lens = uniform2(p.rng);
       p.wl = wavelengths_.sample(p.rng.uniform());
       for (size_t c = 0; c < nc; ++c)
-        for (int i = 0; i < kLambdaCount; ++i) band_weight[k][c][i] = weights_[c]->eval(p.wl.lambda_nm[i]) / p.wl.pdf[i];
+        for (int i = 0; i < kLambdaCount; ++i)
+          band_weight[k][c][i] = weights_[c]->eval(p.wl.lambda_nm[i]) / p.wl.pdf[i];
     }
     for (uint32_t k = 0; k < count; ++k) {
       Prepared& p = batch[k];
