@@ -32,20 +32,21 @@ Vec2 leaf_quad_coordinates(unsigned triangle, float b1, float b2) {
   return (triangle & 1u) ? Vec2(1.0f - b1, 1.0f - b2) : Vec2(b1, b2);
 }
 
-// What the leaf filters read: the outlines, and the corners Integrator::interaction will read for
-// the closest hit. When every leaf of the geometry has one outline (the common case) it is kept
-// here, so a candidate hit costs no load of its own leaf's record.
+// What the leaf filters read: the outlines, and the corners and stem index Integrator::interaction
+// will read for the closest hit. When every leaf of the geometry has one outline (the common case)
+// it is kept here, so a candidate hit costs no load of its own leaf's record.
 struct LeafFilterData {
   const LeafShape* shapes = nullptr;
   const Vec3* corners = nullptr;
+  const int32_t* stems = nullptr;  // null when the leaves carry no stem index
   bool one_shape = false;
   LeafShape shape = LeafShape::Rectangle;
 };
 
 // Leaf alpha: reject hits outside the leaf outline (Weber & Penn §4.5 leaf shapes). A candidate the
-// closest-hit query keeps may be the hit the integrator shades: its corners are fetched now, while
-// Embree goes on traversing, instead of stalling Integrator::interaction (bench/README.md, "Memory
-// stalls"). Shadow rays (kPrefetch false) never read them.
+// closest-hit query keeps may be the hit the integrator shades: its corners (and stem index) are
+// fetched now, while Embree goes on traversing, instead of stalling Integrator::interaction
+// (bench/README.md, "Memory stalls"). Shadow rays (kPrefetch false) never read them.
 template <bool kPrefetch>
 void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto& data = *static_cast<const LeafFilterData*>(args->geometryUserPtr);
@@ -59,6 +60,7 @@ void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
     } else if constexpr (kPrefetch) {
       __builtin_prefetch(data.corners + 4 * size_t(prim >> 1));
       __builtin_prefetch(data.corners + 4 * size_t(prim >> 1) + 3);
+      if (data.stems) __builtin_prefetch(data.stems + (prim >> 1));
     }
   }
 }
@@ -226,24 +228,25 @@ void array_bounds(const RTCBoundsFunctionArguments* args) {
   *args->bounds_o = RTCBounds{b.lo.x, b.lo.y, b.lo.z, 0.0f, b.hi.x, b.hi.y, b.hi.z, 0.0f};
 }
 
-// The Embree ray from `o` along `d` over [tnear, tfar], all mask bits set, written in place with
+// The Embree ray from `o` along `d` over [tnear, tfar] at `time` with `mask`, written in place with
 // three 16-byte stores, the width in which Embree loads it: a ray built elsewhere and copied, or
 // stored a field at a time, is read back in 16-byte loads of 4-byte stores, which the processor
 // cannot forward (a stall per ray, 1-2 % of a render).
-void set_rtc_ray(RTCRay& r, const Vec3& o, const Vec3& d, float tnear, float tfar) {
+void set_rtc_ray(RTCRay& r, const Vec3& o, const Vec3& d, float tnear, float tfar, float time = 0.0f,
+                 unsigned mask = 0xffffffffu) {
   static_assert(sizeof(RTCRay) == 48 && alignof(RTCRay) == 16);
 #if defined(__SSE2__)
   _mm_store_ps(&r.org_x, _mm_setr_ps(o.x, o.y, o.z, tnear));
-  _mm_store_ps(&r.dir_x, _mm_setr_ps(d.x, d.y, d.z, 0.0f));  // time 0
+  _mm_store_ps(&r.dir_x, _mm_setr_ps(d.x, d.y, d.z, time));
   _mm_store_si128(reinterpret_cast<__m128i*>(&r.tfar),
-                  _mm_setr_epi32(std::bit_cast<int>(tfar), -1, 0, 0));  // mask all, id 0, flags 0
+                  _mm_setr_epi32(std::bit_cast<int>(tfar), static_cast<int>(mask), 0, 0));  // id 0, flags 0
 #else
-  r = RTCRay{o.x, o.y, o.z, tnear, d.x, d.y, d.z, 0.0f, tfar, 0xffffffffu, 0, 0};
+  r = RTCRay{o.x, o.y, o.z, tnear, d.x, d.y, d.z, time, tfar, mask, 0, 0};
 #endif
 }
 
-// Ray `j` of `rays` moved into the object space of array primitive `prim`.
-RTCRay array_object_ray(const InstanceArray& a, unsigned prim, RTCRayN* rays, unsigned n, unsigned j) {
+// Ray `j` of `rays` moved into the object space of array primitive `prim`, written into `r`.
+void set_array_object_ray(RTCRay& r, const InstanceArray& a, unsigned prim, RTCRayN* rays, unsigned n, unsigned j) {
   const Mat4& world_from_object = a.instances[prim % a.count].world_from_object;
   const Mat3 object_from_world = glm::inverse(Mat3(world_from_object));
   // The origin relative to the copy's own origin first, then turned and scaled: the subtraction
@@ -253,11 +256,8 @@ RTCRay array_object_ray(const InstanceArray& a, unsigned prim, RTCRayN* rays, un
   const Vec3 d(RTCRayN_dir_x(rays, n, j), RTCRayN_dir_y(rays, n, j), RTCRayN_dir_z(rays, n, j));
   const Vec3 o_obj = object_from_world * (o - origin);
   const Vec3 d_obj = object_from_world * d;
-  RTCRay r;
-  set_rtc_ray(r, o_obj, d_obj, RTCRayN_tnear(rays, n, j), RTCRayN_tfar(rays, n, j));
-  r.time = RTCRayN_time(rays, n, j);
-  r.mask = RTCRayN_mask(rays, n, j);
-  return r;
+  set_rtc_ray(r, o_obj, d_obj, RTCRayN_tnear(rays, n, j), RTCRayN_tfar(rays, n, j), RTCRayN_time(rays, n, j),
+              RTCRayN_mask(rays, n, j));
 }
 
 void array_intersect(const RTCIntersectFunctionNArguments* args) {
@@ -267,8 +267,8 @@ void array_intersect(const RTCIntersectFunctionNArguments* args) {
   RTCScene prototype = a.prototypes[a.instances[args->primID % a.count].prototype];
   for (unsigned j = 0; j < args->N; ++j) {
     if (args->valid[j] != -1) continue;
-    RTCRayHit rh{};
-    rh.ray = array_object_ray(a, args->primID, rays, args->N, j);
+    RTCRayHit rh;  // Embree reads only the ray and the hit's ids
+    set_array_object_ray(rh.ray, a, args->primID, rays, args->N, j);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l) rh.hit.instID[l] = RTC_INVALID_GEOMETRY_ID;
     RTCIntersectContext context;
@@ -286,7 +286,8 @@ void array_occluded(const RTCOccludedFunctionNArguments* args) {
   RTCScene prototype = a.prototypes[a.instances[args->primID % a.count].prototype];
   for (unsigned j = 0; j < args->N; ++j) {
     if (args->valid[j] != -1) continue;
-    RTCRay r = array_object_ray(a, args->primID, args->ray, args->N, j);
+    RTCRay r;
+    set_array_object_ray(r, a, args->primID, args->ray, args->N, j);
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     rtcOccluded1(prototype, &context, &r);
@@ -411,6 +412,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
       LeafFilterData& filter = impl_->leaf_filters.emplace_back();
       filter.shapes = lq.shapes.data();
       filter.corners = lq.corners.data();
+      filter.stems = lq.stem.empty() ? nullptr : lq.stem.data();
       filter.one_shape =
           std::all_of(lq.shapes.begin(), lq.shapes.end(), [&](LeafShape s) { return s == lq.shapes[0]; });
       filter.shape = lq.shapes[0];
