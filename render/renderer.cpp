@@ -107,53 +107,30 @@ void Renderer::check_film(const Film& film) const {
 void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample,
                             uint64_t& rays) const {
   const size_t nc = channels_.size();
+  float values[2 * 64];
   const uint64_t pixel_id =
       static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
-  // A pixel's samples in batches: each sample's camera sample, wavelengths and band weights first,
-  // then its path. The wavelength tables and band spectra are read back to back while they are in
-  // cache, rather than once per path after Embree's traversal has evicted them (bench/README.md,
-  // "Memory stalls"). Each sample keeps its own random sequence, so the result does not depend on
-  // the batching.
-  constexpr uint32_t kBatch = 8;
-  struct Prepared {
-    Pcg32 rng;
-    Vec2 film_pos, lens;
-    SampledWavelengths wl;
-  };
-  Prepared batch[kBatch];
-  float band_weight[kBatch][64][kLambdaCount];  // band channel c's weight over the pdf at each λ
-  float values[2 * 64];
-  for (uint32_t b0 = first_sample; b0 < end_sample; b0 += kBatch) {
-    const uint32_t count = std::min(kBatch, end_sample - b0);
-    for (uint32_t k = 0; k < count; ++k) {
-      Prepared& p = batch[k];
-      p.rng = Pcg32(hash_ids(settings_.seed, pixel_id, b0 + k));
-      p.film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + uniform2(p.rng);
-      p.lens = uniform2(p.rng);
-      p.wl = wavelengths_.sample(p.rng.uniform());
-      for (size_t c = 0; c < nc; ++c)
-        for (int i = 0; i < kLambdaCount; ++i)
-          band_weight[k][c][i] = weights_[c]->eval(p.wl.lambda_nm[i]) / p.wl.pdf[i];
-    }
-    for (uint32_t k = 0; k < count; ++k) {
-      Prepared& p = batch[k];
-      FirstHit first;
-      SampledSpectrum L = integrator_->radiance(camera_.generate_ray(p.film_pos, p.lens), p.wl, p.rng, &first, rays);
-      // A non-finite radiance never reaches the film; such a sample counts as black.
-      for (int i = 0; i < kLambdaCount; ++i)
-        if (!std::isfinite(L[i])) L = SampledSpectrum(0.0f);
-      for (size_t c = 0; c < nc; ++c) {
-        float v = 0, a = 0;
-        for (int i = 0; i < kLambdaCount; ++i) {
-          const float w = band_weight[k][c][i];
-          v += L[i] * w;
-          a += first.albedo[i] * w;
-        }
-        values[c] = v / kLambdaCount * scale_[c];
-        values[nc + c] = weight_integrals_[c] != 0 ? a / (kLambdaCount * weight_integrals_[c]) : 0.0f;
+  for (uint32_t s = first_sample; s < end_sample; ++s) {
+    Pcg32 rng(hash_ids(settings_.seed, pixel_id, s));
+    const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + uniform2(rng);
+    const Vec2 lens = uniform2(rng);
+    const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
+    FirstHit first;
+    SampledSpectrum L = integrator_->radiance(camera_.generate_ray(film_pos, lens), wl, rng, &first, rays);
+    // A non-finite radiance never reaches the film; such a sample counts as black.
+    for (int i = 0; i < kLambdaCount; ++i)
+      if (!std::isfinite(L[i])) L = SampledSpectrum(0.0f);
+    for (size_t c = 0; c < nc; ++c) {
+      float v = 0, a = 0;
+      for (int i = 0; i < kLambdaCount; ++i) {
+        const float w = weights_[c]->eval(wl.lambda_nm[i]) / wl.pdf[i];
+        v += L[i] * w;
+        a += first.albedo[i] * w;
       }
-      film.add_sample(x, y, values);
+      values[c] = v / kLambdaCount * scale_[c];
+      values[nc + c] = weight_integrals_[c] != 0 ? a / (kLambdaCount * weight_integrals_[c]) : 0.0f;
     }
+    film.add_sample(x, y, values);
   }
 }
 
