@@ -46,7 +46,7 @@ Distribution1D::Distribution1D(const std::vector<float>& weights) : bins_(weight
 float sample_bins(const DistributionBin* bins, const uint32_t* guide, int n, float u, float* pdf, int* bin) {
   // Last bin whose cdf start is <= u (found from the guide table: O(1) on average), then back over
   // bins with no mass.
-  int i = static_cast<int>(guide[std::clamp(static_cast<int>(u * static_cast<float>(n)), 0, n - 1)]);
+  int i = static_cast<int>(guide[bin_index(u, n)]);
   while (i > 0 && bins[i].cdf > u) --i;
   while (i + 1 < n && bins[i + 1].cdf <= u) ++i;
   while (i > 0 && bins[i + 1].cdf == bins[i].cdf) --i;
@@ -63,31 +63,24 @@ Distribution2D::Distribution2D(const std::vector<float>& weights, int nu, int nv
       row_guides_(static_cast<size_t>(nu) * static_cast<size_t>(nv)) {
   std::vector<float> row_mass(nv);
   for (int v = 0; v < nv; ++v)
-    row_mass[v] = Distribution1D::tabulate(weights.data() + static_cast<size_t>(v) * nu, nu,
-                                           row_bins_.data() + static_cast<size_t>(v) * (nu + 1),
-                                           row_guides_.data() + static_cast<size_t>(v) * nu);
+    row_mass[v] = Distribution1D::tabulate(weights.data() + static_cast<size_t>(v) * nu, nu, row_bins(v), row_guide(v));
   marginal_ = Distribution1D(row_mass);
   pdf_.resize(static_cast<size_t>(nu) * static_cast<size_t>(nv));
   for (int v = 0; v < nv; ++v)
-    for (int u = 0; u < nu; ++u)
-      pdf_[static_cast<size_t>(v) * nu + u] =
-          marginal_.bin_pdf(v) * row_bins_[static_cast<size_t>(v) * (nu + 1) + static_cast<size_t>(u)].pdf;
+    for (int u = 0; u < nu; ++u) pdf_[static_cast<size_t>(v) * nu + u] = marginal_.bin_pdf(v) * row_bins(v)[u].pdf;
 }
 
 Vec2 Distribution2D::sample(Vec2 u, float* pdf) const {
   float pdf_v = 0, pdf_u = 0;
   int row = 0;
   const float v = marginal_.sample(u.y, &pdf_v, &row);
-  const float uu = sample_bins(row_bins_.data() + static_cast<size_t>(row) * (nu_ + 1),
-                               row_guides_.data() + static_cast<size_t>(row) * nu_, nu_, u.x, &pdf_u, nullptr);
+  const float uu = sample_bins(row_bins(row), row_guide(row), nu_, u.x, &pdf_u, nullptr);
   if (pdf) *pdf = pdf_v * pdf_u;
   return {uu, v};
 }
 
 float Distribution2D::pdf(Vec2 p) const {
-  const int row = marginal_.bin_of(p.y);
-  const int column = std::clamp(static_cast<int>(p.x * static_cast<float>(nu_)), 0, nu_ - 1);
-  return pdf_[static_cast<size_t>(row) * nu_ + column];
+  return pdf_[static_cast<size_t>(marginal_.bin_of(p.y)) * nu_ + bin_index(p.x, nu_)];
 }
 
 }  // namespace sylva

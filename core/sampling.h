@@ -42,6 +42,9 @@ struct DistributionBin {
   float pdf = 0;  // density on [0, 1) over the bin
 };
 
+// The bin of n equal bins over [0, 1) that holds x (clamped to the first and last).
+inline int bin_index(float x, int n) { return std::clamp(static_cast<int>(x * static_cast<float>(n)), 0, n - 1); }
+
 // Inverse-CDF sampling over n bins of `bins` (n + 1 entries, the last {1, 0}) with the cut-point
 // guide table `guide` (guide[k]: last bin whose cdf start ≤ k/n): the continuous sample in [0, 1),
 // its density and its bin.
@@ -60,7 +63,7 @@ class Distribution1D {
   float pdf(float x) const { return bin_pdf(bin_of(x)); }
   // The density on [0,1) over bin i, and the bin holding x.
   float bin_pdf(int i) const { return bins_[i].pdf; }
-  int bin_of(float x) const { return std::clamp(static_cast<int>(x * static_cast<float>(size())), 0, size() - 1); }
+  int bin_of(float x) const { return bin_index(x, size()); }
   int size() const { return static_cast<int>(guide_.size()); }
   float integral() const { return integral_; }  // mean of the weights
 
@@ -86,7 +89,12 @@ class Distribution2D {
  private:
   Distribution1D marginal_;
   int nu_ = 0;
-  // The rows' conditional tables, row v at v·(nu + 1) and v·nu: one array each, no per-row header.
+  // Row v's conditional tables, in one array each (no per-row header).
+  DistributionBin* row_bins(int v) { return row_bins_.data() + static_cast<size_t>(v) * (nu_ + 1); }
+  const DistributionBin* row_bins(int v) const { return row_bins_.data() + static_cast<size_t>(v) * (nu_ + 1); }
+  uint32_t* row_guide(int v) { return row_guides_.data() + static_cast<size_t>(v) * nu_; }
+  const uint32_t* row_guide(int v) const { return row_guides_.data() + static_cast<size_t>(v) * nu_; }
+
   std::vector<DistributionBin> row_bins_;
   std::vector<uint32_t> row_guides_;
   std::vector<float> pdf_;  // per cell (row-major): the marginal's density times the row's, one lookup
