@@ -26,8 +26,9 @@ class CieSkyShape {
 
  private:
   float gradation(float cos_z) const { return 1.0f + a_ * std::exp(b_ / std::max(cos_z, 1e-4f)); }
-  float indicatrix(float chi) const {
-    return 1.0f + c_ * (std::exp(d_ * chi) - exp_d_half_pi_) + e_ * sqr(std::cos(chi));
+  // χ, the angle to the sun, and its cosine (the dot product the caller has: no cos(acos(x))).
+  float indicatrix(float chi, float cos_chi) const {
+    return 1.0f + c_ * (std::exp(d_ * chi) - exp_d_half_pi_) + e_ * sqr(cos_chi);
   }
 
   Vec3 sun_dir_;

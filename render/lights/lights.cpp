@@ -46,21 +46,20 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
     sun_power = static_cast<float>(sun.irradiance.integral());
   }
 
-  // Sky: tabulate the directional shape g(ω) over (φ, θ) with the sin θ Jacobian.
+  // Sky: its normalisation from the directional shape g(ω), and its sampling table (sky_table).
   float sky_power = 0;
   if (sky.enabled) {
-    sky_theta_max_ = !upper_hemisphere_only(sky.model) || has_ground_ ? kPi : 0.5f * kPi;
     spectral_sky_ = std::visit([](const auto& m) { return SpectralSkyModel<std::decay_t<decltype(m)>>; }, sky.model);
-    std::vector<float> w(kSkyPhiBins * kSkyThetaBins);
+    // The normalisation integrals, by the midpoint rule on a (φ, θ) grid over the sky's extent.
     double horizontal = 0;                            // ∫ g cos θ dω over the upper hemisphere
     std::vector<std::pair<Vec3, float>> basis_cells;  // spectral skies: (w_i(ω), cos θ dω) per upper cell
-    const float dphi = kTwoPi / kSkyPhiBins, dtheta = sky_theta_max_ / kSkyThetaBins;
+    const float theta_max = !upper_hemisphere_only(sky.model) || has_ground_ ? kPi : 0.5f * kPi;
+    const float dphi = kTwoPi / kSkyPhiBins, dtheta = theta_max / kSkyThetaBins;
     for (int j = 0; j < kSkyThetaBins; ++j) {
       const float theta = (j + 0.5f) * dtheta;
       for (int i = 0; i < kSkyPhiBins; ++i) {
         const Vec3 d = spherical_direction(std::sin(theta), std::cos(theta), (i + 0.5f) * dphi);
         const float g = sky_shape(d);
-        w[j * kSkyPhiBins + i] = g * std::sin(theta);
         if (d.z > 0) horizontal += g * d.z * std::sin(theta) * dphi * dtheta;
         if (spectral_sky_ && d.z > 0) {
           basis_cells.emplace_back(sky_basis_weights(d), d.z * std::sin(theta) * dphi * dtheta);
@@ -121,6 +120,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
       sky_radiance_ *= static_cast<float>(1.0 / horizontal);
       sky_power = static_cast<float>(sky.spectrum.integral());
     }
+    float ground_weight = 0;  // the ground's sampling weight per steradian, in the sky's shape units
     if (has_ground_) {
       // L_ground = a/π · (E_sun sin(elevation) + E_sky,horizontal), uniform over the lower hemisphere;
       // its table cells are weighted by its power relative to the sky's shape units.
@@ -129,12 +129,11 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
         for (int i = 0; i < kLambdaSamples; ++i) ground_radiance_[i] += sun.irradiance[i] * std::max(0.0f, sun_dir.z);
       ground_radiance_ *= sky.ground_albedo * kInvPi;
       const double sky_scale = sky_radiance_.integral();
-      const float ratio = sky_scale > 0 ? static_cast<float>(ground_radiance_.integral() / sky_scale) : 1.0f;
-      for (int j = kSkyThetaBins / 2; j < kSkyThetaBins; ++j)
-        for (int i = 0; i < kSkyPhiBins; ++i) w[j * kSkyPhiBins + i] = ratio * std::sin((j + 0.5f) * dtheta);
+      ground_weight = sky_scale > 0 ? static_cast<float>(ground_radiance_.integral() / sky_scale) : 1.0f;
       sky_power += static_cast<float>(ground_radiance_.integral() * kPi);
     }
-    sky_distribution_ = Distribution2D(w, kSkyPhiBins, kSkyThetaBins);
+    sky_z_min_ = theta_max == kPi ? -1.0f : 0.0f;
+    sky_distribution_ = Distribution2D(sky_table(ground_weight), kSkyPhiBins, kSkyThetaBins);
   }
   const float total = sun_power * std::max(0.0f, sun_dir.z) + sky_power;
   if (sun_power > 0 && sky_power > 0 && total > 0) {
@@ -144,6 +143,38 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
     p_sun_ = sun_power > 0 ? 1.0f : 0.0f;
     p_sky_ = sky_power > 0 ? 1.0f : 0.0f;
   }
+}
+
+std::vector<float> Environment::sky_table(float ground_weight) const {
+  std::vector<float> w(static_cast<size_t>(kSkyPhiBins) * kSkyThetaBins);
+  const float dphi = kTwoPi / kSkyPhiBins, dz = (1.0f - sky_z_min_) / kSkyThetaBins;
+  for (int j = 0; j < kSkyThetaBins; ++j) {
+    const float z = 1.0f - (static_cast<float>(j) + 0.5f) * dz;
+    for (int i = 0; i < kSkyPhiBins; ++i)
+      w[static_cast<size_t>(j) * kSkyPhiBins + i] =
+          has_ground_ && z < 0 ? ground_weight
+                               : sky_shape(spherical_direction(safe_sqrt(1.0f - z * z), z, (i + 0.5f) * dphi));
+  }
+  if (!sun_.enabled) return w;
+  // Empty the cells the solar disc may reach: every direction within a of the sun's axis lies in
+  // θ_s ± a and, on those rows, within φ_s ± h with sin h = sin a / min sin θ (sin is concave, so
+  // its least value over the rows is at an end). a is twice the disc's radius, far above rounding.
+  const float a = 2.0f * radians(sun_.angular_radius_deg) + 1e-4f;
+  const float theta_s = safe_acos(sun_frame_.z.z);
+  float phi_s = std::atan2(sun_frame_.z.y, sun_frame_.z.x);
+  if (phi_s < 0) phi_s += kTwoPi;
+  const float z_hi = std::cos(std::max(0.0f, theta_s - a)), z_lo = std::cos(std::min(kPi, theta_s + a));
+  const float min_sin = std::min(std::sin(std::max(0.0f, theta_s - a)), std::sin(std::min(kPi, theta_s + a)));
+  const float h = min_sin > std::sin(a) ? std::asin(std::sin(a) / min_sin) : kPi;
+  for (int j = 0; j < kSkyThetaBins; ++j) {
+    const float row_hi = 1.0f - static_cast<float>(j) * dz, row_lo = 1.0f - static_cast<float>(j + 1) * dz;
+    if (row_lo > z_hi || row_hi < z_lo) continue;
+    for (int i = 0; i < kSkyPhiBins; ++i) {
+      const float d = std::abs(std::remainder((static_cast<float>(i) + 0.5f) * dphi - phi_s, kTwoPi));
+      if (d <= h + 0.5f * dphi) w[static_cast<size_t>(j) * kSkyPhiBins + i] = 0.0f;
+    }
+  }
+  return w;
 }
 
 DenseSpectrum Environment::horizontal_irradiance_of_sky() const {
@@ -200,14 +231,11 @@ SampledSpectrum Environment::eval(const Vec3& dir, const SampledWavelengths& wl)
 }
 
 float Environment::sky_pdf(const Vec3& dir) const {
-  const float theta = safe_acos(dir.z);
-  if (theta >= sky_theta_max_) return 0.0f;
+  if (dir.z <= sky_z_min_) return 0.0f;
   float phi = std::atan2(dir.y, dir.x);
   if (phi < 0) phi += kTwoPi;
-  const float sin_theta = std::sin(theta);
-  if (sin_theta <= 0) return 0.0f;
-  const float p = sky_distribution_.pdf(Vec2(phi * kInvTwoPi, theta / sky_theta_max_));
-  return p / (kTwoPi * sky_theta_max_ * sin_theta);
+  const float p = sky_distribution_.pdf(Vec2(phi * kInvTwoPi, (1.0f - dir.z) / (1.0f - sky_z_min_)));
+  return p / (kTwoPi * (1.0f - sky_z_min_));
 }
 
 float Environment::pdf(const Vec3& dir) const {
@@ -221,15 +249,19 @@ LightSample Environment::sample(Vec2 u, float u_select, const SampledWavelengths
   LightSample s;
   if (u_select < p_sun_) {
     s.wi = sun_frame_.to_world(sample_uniform_cone(u, sun_one_minus_cos_));
+    // The sky's table is empty wherever the disc reaches (sky_table): the mixture's density here
+    // is the sun's alone, pdf(s.wi) without its sky lookup.
+    s.pdf = p_sun_ * uniform_cone_pdf(sun_one_minus_cos_);
   } else if (p_sky_ > 0) {
-    float p = 0;
-    const Vec2 uv = sky_distribution_.sample(u, &p);
-    const float theta = uv.y * sky_theta_max_;
-    s.wi = spherical_direction(std::sin(theta), std::cos(theta), uv.x * kTwoPi);
+    const Vec2 uv = sky_distribution_.sample(u, nullptr);
+    const float z = 1.0f - uv.y * (1.0f - sky_z_min_);
+    s.wi = spherical_direction(safe_sqrt(1.0f - z * z), z, uv.x * kTwoPi);
+    // The density of the direction as pdf() finds it (not the sampled cell's: rounding can put a
+    // direction on a cell's edge in the neighbouring cell), so the two always agree.
+    s.pdf = pdf(s.wi);
   } else {
     return s;
   }
-  s.pdf = pdf(s.wi);
   s.radiance = eval(s.wi, wl);
   return s;
 }

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <variant>
+#include <vector>
 
 namespace sylva {
 
@@ -110,7 +111,7 @@ class Environment {
   // Spectral irradiance on an upward-facing horizontal plane from the sun and the sky above the
   // horizon, W·m⁻²·nm⁻¹ (docs/radiometry.md): the sun disc gives E_sun · max(0, cos θ_sun) (exact
   // for a uniform disc above the horizon: ∫_disc ω dω = axis · π sin²α), the sky its radiance
-  // scale times ∫_{z>0} g(ω) cos θ dω on the 256 × 128 table (the horizontal diffuse spectrum
+  // scale times ∫_{z>0} g(ω) cos θ dω on a 256 × 128 (φ, θ) grid (the horizontal diffuse spectrum
   // itself for normalised models). The ground below the horizon does not reach an upward plane.
   DenseSpectrum horizontal_irradiance() const;
 
@@ -119,6 +120,8 @@ class Environment {
   DenseSpectrum horizontal_irradiance_of_sky() const;
   Vec3 sky_basis_weights(const Vec3& dir) const;
   float sky_pdf(const Vec3& dir) const;
+  // The sky's sampling weights per cell (sky_distribution_), the ground's below the horizon.
+  std::vector<float> sky_table(float ground_weight) const;
 
   SunDesc sun_;
   SkyDesc sky_;
@@ -132,9 +135,11 @@ class Environment {
   std::array<DenseSpectrum, 3> sky_basis_;
   DenseSpectrum sky_horizontal_spectrum_;
   bool has_ground_ = false;
-  DenseSpectrum ground_radiance_;    // uniform radiance below the horizon when has_ground_
-  Distribution2D sky_distribution_;  // u = φ/2π, v = θ/θ_max
-  float sky_theta_max_ = kPi;
+  DenseSpectrum ground_radiance_;  // uniform radiance below the horizon when has_ground_
+  // The sky's sampling table over (φ, z = cos θ): u = φ/2π, v = (1 − z)/(1 − z_min), equal solid
+  // angle per cell; z_min is −1 for a sky over the whole sphere (or with a ground), else 0.
+  Distribution2D sky_distribution_;
+  float sky_z_min_ = -1.0f;
   float p_sun_ = 0, p_sky_ = 0;
 };
 

@@ -122,6 +122,40 @@ TEST(Lights, SunConeChi2InTheSunsFrame) {
   EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
 }
 
+TEST(Lights, SkyTableLeavesTheSolarDiscToTheSun) {
+  // The sky's table is empty wherever the solar disc reaches, so a sun sample's density is the
+  // sun's alone, exactly as pdf() finds it — for a sun across φ = 0 (due east), at and near the
+  // zenith (every column of the top rows), at the horizon, with a ground, and the largest disc.
+  struct Case {
+    float azimuth, elevation, radius, ground;
+  };
+  for (const Case c : {Case{90, 30, 0.2665f, 0}, Case{89.99f, 45, 0.2665f, 0}, Case{0, 89.9f, 0.2665f, 0},
+                       Case{200, 90, 0.2665f, 0}, Case{135, 0.1f, 0.2665f, 0.3f}, Case{300, 20, 9.9f, 0.2f}}) {
+    SCOPED_TRACE(::testing::Message() << "sun at " << c.azimuth << "°, " << c.elevation << "°");
+    SunDesc sun;
+    sun.azimuth_deg = c.azimuth;
+    sun.elevation_deg = c.elevation;
+    sun.angular_radius_deg = c.radius;
+    SkyDesc sky;
+    sky.ground_albedo = c.ground;
+    const Environment env(sun, sky);
+    const float sun_pdf = env.sun_selection_probability() * uniform_cone_pdf(env.sun_one_minus_cos());
+    Pcg32 rng(21);
+    SampledWavelengths wl;
+    int mismatches = 0;
+    for (int i = 0; i < 200'000; ++i) {
+      const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), 0.0f, wl);
+      ASSERT_TRUE(env.in_sun(s.wi));
+      mismatches += s.pdf != sun_pdf || env.pdf(s.wi) != sun_pdf;
+    }
+    EXPECT_EQ(mismatches, 0);
+    // The sky still has the rest of the sphere: a sky sample is never in the disc.
+    for (int i = 0; i < 200'000; ++i)
+      mismatches += env.in_sun(env.sample(Vec2(rng.uniform(), rng.uniform()), 1.0f, wl).wi);
+    EXPECT_EQ(mismatches, 0);
+  }
+}
+
 TEST(Lights, SolarDiscSamplesAndIrradiance) {
   SunDesc sun;
   sun.elevation_deg = 35;
