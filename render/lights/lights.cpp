@@ -225,9 +225,8 @@ SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths&
 }
 
 SampledSpectrum Environment::eval(const Vec3& dir, const SampledWavelengths& wl) const {
-  SampledSpectrum l = eval_sky(dir, wl);
-  if (sun_.enabled && in_sun(dir)) l += sun_radiance_.eval(wl);
-  return l;
+  if (sun_.enabled && in_sun(dir)) return sun_radiance_.eval(wl);
+  return eval_sky(dir, wl);
 }
 
 float Environment::sky_pdf(const Vec3& dir) const {
@@ -252,16 +251,16 @@ LightSample Environment::sample(Vec2 u, float u_select, const SampledWavelengths
     // The sky's table is empty wherever the disc reaches (sky_table): the mixture's density here
     // is the sun's alone, pdf(s.wi) without its sky lookup.
     s.pdf = p_sun_ * uniform_cone_pdf(sun_one_minus_cos_);
-  } else if (p_sky_ > 0) {
-    const Vec2 uv = sky_distribution_.sample(u, nullptr);
-    const float z = 1.0f - uv.y * (1.0f - sky_z_min_);
-    s.wi = spherical_direction(safe_sqrt(1.0f - z * z), z, uv.x * kTwoPi);
-    // The density of the direction as pdf() finds it (not the sampled cell's: rounding can put a
-    // direction on a cell's edge in the neighbouring cell), so the two always agree.
-    s.pdf = pdf(s.wi);
-  } else {
+    s.radiance = sun_radiance_.eval(wl);
     return s;
   }
+  if (p_sky_ == 0) return s;
+  const Vec2 uv = sky_distribution_.sample(u, nullptr);
+  const float z = 1.0f - uv.y * (1.0f - sky_z_min_);
+  s.wi = spherical_direction(safe_sqrt(1.0f - z * z), z, uv.x * kTwoPi);
+  // The density of the direction as pdf() finds it (not the sampled cell's: rounding can put a
+  // direction on a cell's edge in the neighbouring cell), so the two always agree.
+  s.pdf = pdf(s.wi);
   s.radiance = eval(s.wi, wl);
   return s;
 }

@@ -82,7 +82,9 @@ class Environment {
   Environment() = default;
   Environment(const SunDesc& sun, const SkyDesc& sky);
 
-  // Radiance arriving from world direction `dir` (sun disc + sky).
+  // Radiance arriving from world direction `dir`: the sun's within its disc, else the sky's. The
+  // disc hides the sky: the sun's spectrum (ASTM G173 direct + circumsolar) already holds the
+  // light scattered towards the viewer around it (docs/radiometry.md, "Sky sampling").
   SampledSpectrum eval(const Vec3& dir, const SampledWavelengths& wl) const;
   SampledSpectrum eval_sky(const Vec3& dir, const SampledWavelengths& wl) const;
   LightSample sample(Vec2 u, float u_select, const SampledWavelengths& wl) const;
