@@ -63,7 +63,11 @@ class WavelengthSampler {
   float pdf(float lambda_nm) const;  // per nm
 
  private:
-  Distribution1D distribution_;  // over [kLambdaMin, kLambdaMax]
+  // Over [lo, lo + range] nm: the 1 nm bins from the first to the last with importance (all of
+  // [kLambdaMin, kLambdaMax] when no band has any).
+  Distribution1D distribution_;
+  float lo_nm_ = kLambdaMin;
+  float range_nm_ = kLambdaMax - kLambdaMin;
 };
 
 }  // namespace sylva
