@@ -37,6 +37,18 @@ struct SampledWavelengths {
 // What a tabulated spectrum is outside its table.
 enum class Extrapolate { Zero, Clamp };
 
+// Where λ falls on the dense 1 nm grid: the sample below (clamped to the grid) and the fraction
+// towards the next, for a lerp of grid values.
+struct GridPosition {
+  int index;
+  float fraction;
+};
+inline GridPosition grid_position(float lambda_nm) {
+  const float x = std::clamp(lambda_nm - kLambdaMin, 0.0f, static_cast<float>(kLambdaSamples - 1));
+  const int i = std::min(static_cast<int>(x), kLambdaSamples - 2);
+  return {i, x - static_cast<float>(i)};
+}
+
 class DenseSpectrum {
  public:
   DenseSpectrum() : values_(kLambdaSamples, 0.0f) {}
@@ -47,9 +59,7 @@ class DenseSpectrum {
                                     Extrapolate outside);
 
   float eval(float lambda_nm) const {
-    const float x = std::clamp(lambda_nm - kLambdaMin, 0.0f, static_cast<float>(kLambdaSamples - 1));
-    const int i = std::min(static_cast<int>(x), kLambdaSamples - 2);
-    const float f = x - static_cast<float>(i);
+    const auto [i, f] = grid_position(lambda_nm);
     return values_[i] + f * (values_[i + 1] - values_[i]);
   }
   SampledSpectrum eval(const SampledWavelengths& wl) const {

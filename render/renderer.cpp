@@ -53,13 +53,17 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
   if (settings_.spp <= 0) throw Error("samples per pixel must be positive");
   if (settings_.bands.empty()) throw Error("no bands to render");
   if (settings_.integrator.max_depth < 1) throw Error("maximum depth must be at least 1");
+  std::vector<const DenseSpectrum*> weights;
   for (const Band& b : settings_.bands)
     for (size_t c = 0; c < b.channels.size(); ++c) {
       channels_.push_back(b.channels[c]);
-      weights_.push_back(&b.weights[c]);
+      weights.push_back(&b.weights[c]);
       weight_integrals_.push_back(static_cast<float>(b.weights[c].integral()));
     }
   if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
+  interleaved_weights_.resize(static_cast<size_t>(kLambdaSamples) * weights.size());
+  for (int i = 0; i < kLambdaSamples; ++i)
+    for (size_t c = 0; c < weights.size(); ++c) interleaved_weights_[i * weights.size() + c] = (*weights[c])[i];
   environment_ = Environment(scene_.sun, scene_.sky);
   irradiance_ = channel_irradiance(environment_, settings_.bands);
   for (size_t c = 0; c < channels_.size(); ++c) {
@@ -120,10 +124,18 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
     // A non-finite radiance never reaches the film; such a sample counts as black.
     for (int i = 0; i < kLambdaCount; ++i)
       if (!std::isfinite(L[i])) L = SampledSpectrum(0.0f);
+    // DenseSpectrum::eval of each channel's weight, on the interleaved table.
+    const float* w0[kLambdaCount];
+    float f[kLambdaCount];
+    for (int i = 0; i < kLambdaCount; ++i) {
+      const GridPosition g = grid_position(wl.lambda_nm[i]);
+      w0[i] = &interleaved_weights_[static_cast<size_t>(g.index) * nc];
+      f[i] = g.fraction;
+    }
     for (size_t c = 0; c < nc; ++c) {
       float v = 0, a = 0;
       for (int i = 0; i < kLambdaCount; ++i) {
-        const float w = weights_[c]->eval(wl.lambda_nm[i]) / wl.pdf[i];
+        const float w = (w0[i][c] + f[i] * (w0[i][nc + c] - w0[i][c])) / wl.pdf[i];
         v += L[i] * w;
         a += first.albedo[i] * w;
       }

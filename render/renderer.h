@@ -141,11 +141,13 @@ class Renderer {
   std::unique_ptr<Integrator> integrator_;
   Camera camera_;
   WavelengthSampler wavelengths_;
-  std::vector<std::string> channels_;          // radiance channel names, band after band
-  std::vector<const DenseSpectrum*> weights_;  // w_c(λ) per radiance channel
-  std::vector<float> weight_integrals_;        // ∫ w_c dλ, to normalise the albedo AOV
-  std::vector<float> irradiance_;              // E_c per radiance channel
-  std::vector<float> scale_;                   // per radiance channel: 1, or π / E_c for reflectance
+  std::vector<std::string> channels_;  // radiance channel names, band after band
+  // w_c(λ) per radiance channel on the 1 nm grid, the channels interleaved ([grid index][channel]):
+  // a sample's weights for all channels at one wavelength are one or two cache lines, not one each.
+  std::vector<float> interleaved_weights_;
+  std::vector<float> weight_integrals_;  // ∫ w_c dλ, to normalise the albedo AOV
+  std::vector<float> irradiance_;        // E_c per radiance channel
+  std::vector<float> scale_;             // per radiance channel: 1, or π / E_c for reflectance
 };
 
 }  // namespace sylva
