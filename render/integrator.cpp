@@ -40,7 +40,8 @@ Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Envi
       environment_(environment),
       settings_(settings),
       faults_(faults),
-      haze_(scene.haze) {
+      haze_(scene.haze),
+      lobes_(scene.materials) {
   for (const Prototype& p : scene.prototypes)
     for (const HalfSpaceSolid& solid : p.solids) has_media_ = has_media_ || solid.leaf_area_density > 0.0f;
 }
@@ -190,7 +191,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
         if (first && depth == 0 && found && !turbid_solid(hit)) {
           const SurfaceInteraction si = interaction(ray, hit);
           const bool front = glm::dot(-ray.direction, si.ng) > 0;
-          record_first_hit(si, Bsdf(scene_.materials[si.material], wl, front), hit.t, first);
+          record_first_hit(si, Bsdf(lobes_, si.material, wl, front), hit.t, first);
         }
         if (depth + 1 > settings_.max_depth) break;
         const Vec3 p = ray.origin + s * ray.direction;
@@ -223,7 +224,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
       if (s < t_surface) {
         if (depth + 1 > settings_.max_depth) break;
         const Vec3 p = ray.origin + s * ray.direction;
-        const Bsdf leaf(scene_.materials[medium_material], wl, true);
+        const Bsdf leaf(lobes_, medium_material, wl, true);
         const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
         const Vec2 u_light = uniform2(rng);
         const float u_select = rng.uniform();
@@ -288,7 +289,7 @@ SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg3
     const Vec3 ng = front ? si.ng : -si.ng;  // geometric normal on the viewer's side
     const Vec3 ns = front ? si.ns : -si.ns;
     const Frame frame = Frame::from_z(ns);
-    const Bsdf bsdf(scene_.materials[si.material], wl, front);
+    const Bsdf bsdf(lobes_, si.material, wl, front);
     if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
     if (depth + 1 > settings_.max_depth) break;
     const Vec3 wo_local = frame.to_local(wo);

@@ -80,6 +80,7 @@ class Integrator {
   TransportFaults faults_;
   bool has_media_ = false;  // some prototype has a turbid crown
   Haze haze_;               // the scene's haze; disabled: no extra work, no random numbers
+  MaterialLobes lobes_;     // the scene's materials, interleaved for the BSDFs at hits
 
   void record_first_hit(const SurfaceInteraction& si, const Bsdf& bsdf, float t, FirstHit* first) const;
   // The turbid crown a hit is on, or nullptr.

@@ -31,8 +31,54 @@ Material create_material(const std::string& name, const Params& params) {
   return std::move(*m);
 }
 
+MaterialLobes::MaterialLobes(const std::vector<Material>& materials)
+    : table_(2 * materials.size() * static_cast<size_t>(kLambdaSamples)) {
+  // Each material's lobes at the grid wavelengths themselves, four at a time: there the lerp's
+  // fraction is 0, so these are the spectra's grid values exactly (but for the last, 2500 nm,
+  // which DenseSpectrum::eval reaches as v[n−2] + 1·(v[n−1] − v[n−2]): at most an ulp apart).
+  for (size_t m = 0; m < materials.size(); ++m)
+    for (int i = 0; i < kLambdaSamples; i += kLambdaCount) {
+      SampledWavelengths wl;
+      for (int k = 0; k < kLambdaCount; ++k)
+        wl.lambda_nm[k] = DenseSpectrum::grid_lambda(std::min(i + k, kLambdaSamples - 1));
+      SampledSpectrum rf(0.0f), tf(0.0f), rb(0.0f), tb(0.0f);
+      std::visit(
+          [&](const auto& material) {
+            material.lobes(wl, true, rf, tf);
+            material.lobes(wl, false, rb, tb);
+          },
+          materials[m]);
+      for (int k = 0; k < kLambdaCount && i + k < kLambdaSamples; ++k) {
+        table_[2 * m * kLambdaSamples + static_cast<size_t>(i + k)] = {rf[k], tf[k]};
+        table_[(2 * m + 1) * kLambdaSamples + static_cast<size_t>(i + k)] = {rb[k], tb[k]};
+      }
+    }
+}
+
+void MaterialLobes::lobes(uint32_t material, const SampledWavelengths& wl, bool front, SampledSpectrum& reflect,
+                          SampledSpectrum& transmit) const {
+  const GridLobes* grid = &table_[(2 * static_cast<size_t>(material) + (front ? 0 : 1)) * kLambdaSamples];
+  for (int k = 0; k < kLambdaCount; ++k) {
+    const auto [i, f] = grid_position(wl.lambda_nm[k]);
+    const GridLobes& a = grid[i];
+    const GridLobes& b = grid[i + 1];
+    // DenseSpectrum::eval's lerp.
+    reflect[k] = a.reflect + f * (b.reflect - a.reflect);
+    transmit[k] = a.transmit + f * (b.transmit - a.transmit);
+  }
+}
+
 Bsdf::Bsdf(const Material& material, const SampledWavelengths& wl, bool front) {
   std::visit([&](const auto& m) { m.lobes(wl, front, reflect_, transmit_); }, material);
+  select_lobes();
+}
+
+Bsdf::Bsdf(const MaterialLobes& table, uint32_t material, const SampledWavelengths& wl, bool front) {
+  table.lobes(material, wl, front, reflect_, transmit_);
+  select_lobes();
+}
+
+void Bsdf::select_lobes() {
   const float r = average(reflect_), t = average(transmit_);
   p_reflect_ = (r + t) > 0 ? r / (r + t) : 1.0f;
 }

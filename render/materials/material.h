@@ -17,6 +17,7 @@
 
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace sylva {
 
@@ -26,6 +27,24 @@ using Material = std::variant<DiffuseMaterial, LeafMaterial>;
 // The material whose kType is `params`' "type" (default "diffuse"), created from `params`.
 // Throws ParseError for an unknown type or a bad parameter.
 Material create_material(const std::string& name, const Params& params);
+
+// Every material's lobes on the dense 1 nm grid, per face, ρ and τ interleaved per grid point: a
+// BSDF at four wavelengths reads four 16-byte pieces, not a line per spectrum and wavelength
+// (bench/README.md, "Spectral tables"). Built per render from the scene's materials as they are
+// then; its values are the materials' own (a lerp of the same grid values, the same bits).
+class MaterialLobes {
+ public:
+  MaterialLobes() = default;
+  explicit MaterialLobes(const std::vector<Material>& materials);
+  void lobes(uint32_t material, const SampledWavelengths& wl, bool front, SampledSpectrum& reflect,
+             SampledSpectrum& transmit) const;
+
+ private:
+  struct GridLobes {
+    float reflect, transmit;
+  };
+  std::vector<GridLobes> table_;  // [(2 · material + back) · kLambdaSamples + grid index]
+};
 
 // BSDF at a hit, evaluated for the carried wavelengths. `front` is whether `wo` is on the side of
 // the geometric normal (the leaf's upper face).
@@ -39,6 +58,8 @@ struct BsdfSample {
 class Bsdf {
  public:
   Bsdf(const Material& material, const SampledWavelengths& wl, bool front);
+  // The same from the render's interleaved table (identical values).
+  Bsdf(const MaterialLobes& table, uint32_t material, const SampledWavelengths& wl, bool front);
 
   // f(wo, wi) (no cosine); local frame, z = normal on the wo side.
   SampledSpectrum eval(const Vec3& wo, const Vec3& wi) const;
@@ -50,6 +71,8 @@ class Bsdf {
   SampledSpectrum reflectance() const { return reflect_; }
 
  private:
+  void select_lobes();  // p_reflect_ from the lobes' albedos
+
   SampledSpectrum reflect_{0.0f};
   SampledSpectrum transmit_{0.0f};
   float p_reflect_ = 1.0f;  // lobe selection probability
