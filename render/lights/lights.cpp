@@ -158,8 +158,9 @@ std::vector<float> Environment::sky_table(float ground_weight) const {
   if (!sun_.enabled) return w;
   // Empty the cells the solar disc may reach: every direction within a of the sun's axis lies in
   // θ_s ± a and, on those rows, within φ_s ± h with sin h = sin a / min sin θ (sin is concave, so
-  // its least value over the rows is at an end). a is twice the disc's radius, far above rounding.
-  const float a = 2.0f * radians(sun_.angular_radius_deg) + 1e-4f;
+  // its least value over the rows is at an end). a exceeds the disc's radius by 1 % + 10⁻⁴ rad, far
+  // above the rounding of a sampled direction (10⁻⁷) and in_sun's margin (10⁻⁵ of 1 − cos α).
+  const float a = 1.01f * radians(sun_.angular_radius_deg) + 1e-4f;
   const float theta_s = safe_acos(sun_frame_.z.z);
   float phi_s = std::atan2(sun_frame_.z.y, sun_frame_.z.x);
   if (phi_s < 0) phi_s += kTwoPi;
