@@ -159,7 +159,7 @@ WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
     for (int i = 0; i + 1 < kLambdaSamples; ++i) w[i] += 0.5f * (b.importance[i] + b.importance[i + 1]);
   // The table spans the 1 nm bins from the first to the last with importance: the same density in a
   // table a third the size for the rgb and nir bands, read four times per path after Embree has
-  // evicted most of the cache (bench/README.md, "Wavelength table").
+  // evicted most of the cache (bench/README.md, "The sky's table and spectral tables").
   const auto first = std::find_if(w.begin(), w.end(), [](float x) { return x > 0; });
   if (first != w.end()) {
     const auto last = std::find_if(w.rbegin(), w.rend(), [](float x) { return x > 0; }).base();

@@ -51,6 +51,12 @@ struct Frame {
   Vec3 to_world(const Vec3& v) const { return x * v.x + y * v.y + z * v.z; }
 };
 
+// The azimuth of a direction about +Z, from +X towards +Y, in [0, 2π) (spherical_direction's φ).
+inline float spherical_phi(const Vec3& d) {
+  const float phi = std::atan2(d.y, d.x);
+  return phi < 0 ? phi + kTwoPi : phi;
+}
+
 // Unit direction from spherical angles about +Z: azimuth measured from +X towards +Y.
 inline Vec3 spherical_direction(float sin_theta, float cos_theta, float phi) {
   return {std::clamp(sin_theta, -1.0f, 1.0f) * std::cos(phi), std::clamp(sin_theta, -1.0f, 1.0f) * std::sin(phi),

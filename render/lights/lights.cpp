@@ -162,8 +162,7 @@ std::vector<float> Environment::sky_table(float ground_weight) const {
   // above the rounding of a sampled direction (10⁻⁷) and in_sun's margin (10⁻⁵ of 1 − cos α).
   const float a = 1.01f * radians(sun_.angular_radius_deg) + 1e-4f;
   const float theta_s = safe_acos(sun_frame_.z.z);
-  float phi_s = std::atan2(sun_frame_.z.y, sun_frame_.z.x);
-  if (phi_s < 0) phi_s += kTwoPi;
+  const float phi_s = spherical_phi(sun_frame_.z);
   const float z_hi = std::cos(std::max(0.0f, theta_s - a)), z_lo = std::cos(std::min(kPi, theta_s + a));
   const float min_sin = std::min(std::sin(std::max(0.0f, theta_s - a)), std::sin(std::min(kPi, theta_s + a)));
   const float h = min_sin > std::sin(a) ? std::asin(std::sin(a) / min_sin) : kPi;
@@ -232,9 +231,7 @@ SampledSpectrum Environment::eval(const Vec3& dir, const SampledWavelengths& wl)
 
 float Environment::sky_pdf(const Vec3& dir) const {
   if (dir.z <= sky_z_min_) return 0.0f;
-  float phi = std::atan2(dir.y, dir.x);
-  if (phi < 0) phi += kTwoPi;
-  const float p = sky_distribution_.pdf(Vec2(phi * kInvTwoPi, (1.0f - dir.z) / (1.0f - sky_z_min_)));
+  const float p = sky_distribution_.pdf(Vec2(spherical_phi(dir) * kInvTwoPi, (1.0f - dir.z) / (1.0f - sky_z_min_)));
   return p / (kTwoPi * (1.0f - sky_z_min_));
 }
 

@@ -30,7 +30,7 @@ Material create_material(const std::string& name, const Params& params);
 
 // Every material's lobes on the dense 1 nm grid, per face, ρ and τ interleaved per grid point: a
 // BSDF at four wavelengths reads four 16-byte pieces, not a line per spectrum and wavelength
-// (bench/README.md, "Spectral tables"). Built per render from the scene's materials as they are
+// (bench/README.md, "The sky's table and spectral tables"). Built per render from the scene's materials as they are
 // then; its values are the materials' own (a lerp of the same grid values, the same bits).
 class MaterialLobes {
  public:
