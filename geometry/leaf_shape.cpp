@@ -81,7 +81,7 @@ bool leaf_shape_inside(LeafShape shape, float u, float v) {
     case LeafShape::Rectangle:
       return true;
     case LeafShape::Oval:
-      return inside_ellipse(u, v, 0.5f, 0.5f, 0.5f, 0.5f);
+      return inside_oval(u, v);
     case LeafShape::Triangle:
       return std::abs(u - 0.5f) <= 0.5f * (1.0f - v);
     case LeafShape::Oak3:

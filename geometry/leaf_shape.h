@@ -26,6 +26,13 @@ enum class LeafShape : uint8_t {
 // True where the leaf is opaque. Pure, branch-light: it runs inside Embree's filter callbacks.
 bool leaf_shape_inside(LeafShape shape, float u, float v);
 
+// LeafShape::Oval's test, inline for the leaf filter of geometry whose leaves are all oval (Weber &
+// Penn's default): the ellipse inscribed in the unit square.
+inline bool inside_oval(float u, float v) {
+  const float du = (u - 0.5f) / 0.5f, dv = (v - 0.5f) / 0.5f;
+  return du * du + dv * dv <= 1.0f;
+}
+
 // Fraction of the unit square covered by the outline (the leaf's area / quad area).
 float leaf_shape_coverage(LeafShape shape);
 

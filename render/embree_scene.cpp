@@ -47,15 +47,20 @@ struct LeafFilterData {
 // closest-hit query keeps may be the hit the integrator shades: its corners (and stem index) are
 // fetched now, while Embree goes on traversing, instead of stalling Integrator::interaction
 // (bench/README.md, "Memory stalls"). Shadow rays (kPrefetch false) never read them.
-template <bool kPrefetch>
+// kOval: every leaf of the geometry is oval (Weber & Penn's default), tested inline.
+template <bool kPrefetch, bool kOval = false>
 void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto& data = *static_cast<const LeafFilterData*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
     const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
     const Vec2 uv = leaf_quad_coordinates(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
-    const LeafShape shape = data.one_shape ? data.shape : data.shapes[prim >> 1];
-    if (!leaf_shape_inside(shape, uv.x, uv.y)) {
+    bool inside;
+    if constexpr (kOval)
+      inside = inside_oval(uv.x, uv.y);
+    else
+      inside = leaf_shape_inside(data.one_shape ? data.shape : data.shapes[prim >> 1], uv.x, uv.y);
+    if (!inside) {
       args->valid[i] = 0;
     } else if constexpr (kPrefetch) {
       __builtin_prefetch(data.corners + 4 * size_t(prim >> 1));
@@ -417,8 +422,13 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
           std::all_of(lq.shapes.begin(), lq.shapes.end(), [&](LeafShape s) { return s == lq.shapes[0]; });
       filter.shape = lq.shapes[0];
       rtcSetGeometryUserData(g, &filter);
-      rtcSetGeometryIntersectFilterFunction(g, leaf_alpha_filter<true>);
-      if (!faults.no_shadow_alpha) rtcSetGeometryOccludedFilterFunction(g, leaf_alpha_filter<false>);
+      const bool oval = filter.one_shape && filter.shape == LeafShape::Oval;
+      // Whole rectangles cut nothing: a shadow ray stops at the first without a callback (the
+      // closest-hit filter stays, for its prefetch).
+      const bool opaque = filter.one_shape && filter.shape == LeafShape::Rectangle;
+      rtcSetGeometryIntersectFilterFunction(g, oval ? leaf_alpha_filter<true, true> : leaf_alpha_filter<true>);
+      if (!faults.no_shadow_alpha && !opaque)
+        rtcSetGeometryOccludedFilterFunction(g, oval ? leaf_alpha_filter<false, true> : leaf_alpha_filter<false>);
       rtcCommitGeometry(g);
       leaf_id = rtcAttachGeometry(s, g);
       rtcReleaseGeometry(g);

@@ -97,7 +97,8 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
   si.prototype = inst.prototype;
   si.primitive = hit.primitive;
   si.leaf = hit.leaf;
-  Vec3 p_obj, ng_obj, ns_obj;
+  Vec3 p_obj, ng_obj, ns_obj(0.0f);
+  bool shading_normals = false;  // ns_obj differs from ng_obj (a mesh with vertex normals)
   if (hit.solid) {
     // A half-space solid (Fournier–Grindal): the point on the world ray, its texture looked up in
     // the crown's own coordinates (§4) to pick the palette material.
@@ -139,7 +140,6 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
       p_obj = (hit.u + hit.v - 1.0f) * c[2] + (1.0f - hit.u) * c[3] + (1.0f - hit.v) * c[1];
       ng_obj = glm::cross(c[3] - c[2], c[1] - c[2]);
     }
-    ns_obj = ng_obj;
     si.material = proto.leaf_material;
     if (!proto.leaves.stem.empty()) si.stem = proto.leaves.stem[hit.primitive];
   } else {
@@ -148,13 +148,18 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
     const float b0 = 1.0f - hit.u - hit.v;
     p_obj = b0 * m.positions[t.x] + hit.u * m.positions[t.y] + hit.v * m.positions[t.z];
     ng_obj = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
-    ns_obj = m.normals.empty() ? ng_obj : b0 * m.normals[t.x] + hit.u * m.normals[t.y] + hit.v * m.normals[t.z];
+    shading_normals = !m.normals.empty();
+    if (shading_normals) ns_obj = b0 * m.normals[t.x] + hit.u * m.normals[t.y] + hit.v * m.normals[t.z];
     si.material = proto.triangle_material;
   }
   si.p = Vec3(inst.world_from_object * Vec4(p_obj, 1.0f));
   si.ng = nfo * ng_obj;
   const float lg = glm::length(si.ng);
   si.ng = lg > 0 ? si.ng / lg : -ray.direction;
+  if (!shading_normals) {
+    si.ns = si.ng;  // what the lines below give for ns_obj = ng_obj, without computing it twice
+    return si;
+  }
   si.ns = nfo * ns_obj;
   const float ls = glm::length(si.ns);
   si.ns = ls > 0 ? si.ns / ls : si.ng;
