@@ -2,7 +2,7 @@
 # Path samples per second of Sylva against Embree's own `pathtracer` tutorial on the same scene.
 #
 #   bench/compare_embree.sh SYLVA [SCENE.toml] [--res WxH] [--threads N] [--frames N] [--max-path-length N]
-#                           [--pathtracer PATH]
+#                           [--pathtracer PATH] [--rounds R]
 #
 # SYLVA is a built `sylva` binary (this script builds nothing). Without SCENE the built-in default
 # scene is used. The scene is exported with `sylva export --no-materials` to one world-space OBJ
@@ -21,6 +21,10 @@
 # counts closest-hit and shadow rays. Both figures come from the renderers' own clocks (render loop
 # only, no scene load, BVH build or image output). Ratio = Sylva samples/s ÷ pathtracer samples/s.
 # Reproducible: fixed seed and resolution, an explicit thread count (default 2) for both.
+#
+# On a shared machine one run of each can differ by 10 % from the next: --rounds R runs the two
+# renderers alternately R times (the export once), prints every run with the 1-minute load average
+# before it, and summarises with the median of each figure and of the per-round ratios.
 set -euo pipefail
 
 usage() { sed -n '4,5p' "$0" | sed 's/^# *//' >&2; exit 2; }
@@ -32,6 +36,7 @@ res=640x360
 threads=2
 frames=20
 pathtracer=pathtracer
+rounds=1
 embree_extra=()
 while [[ $# -gt 0 ]]; do
   case $1 in
@@ -39,6 +44,7 @@ while [[ $# -gt 0 ]]; do
     --threads) threads=$2; shift 2 ;;
     --frames) frames=$2; shift 2 ;;
     --pathtracer) pathtracer=$2; shift 2 ;;
+    --rounds) rounds=$2; shift 2 ;;
     --max-path-length) embree_extra+=(--max-path-length "$2"); shift 2 ;;
     -h|--help) usage ;;
     -*) echo "compare_embree: unknown option $1" >&2; usage ;;
@@ -51,6 +57,7 @@ command -v "$pathtracer" >/dev/null ||
 [[ $res =~ ^([0-9]+)x([0-9]+)$ ]] || { echo "compare_embree: --res expects WxH, not '$res'" >&2; exit 2; }
 width=${BASH_REMATCH[1]}
 height=${BASH_REMATCH[2]}
+[[ $rounds =~ ^[1-9][0-9]*$ ]] || { echo "compare_embree: --rounds expects a positive integer, not '$rounds'" >&2; exit 2; }
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/sylva-compare.XXXXXX")
 trap 'rm -rf "$work"' EXIT
@@ -69,26 +76,46 @@ if left_out=$(grep -o '[0-9]* grass blades (curves) left out' "$work/export.err"
     "compare a scene without grass (bench/scenes/forest_no_grass.toml for the default scene)"
 fi
 
-# 2. Embree's pathtracer tutorial.
-"$pathtracer" -i "$work/scene.obj" "${view[@]}" "${embree_extra[@]}" --spp 1 --benchmark 4 "$frames" --legacy --threads "$threads" \
-  >"$work/embree.log" 2>&1 || { cat "$work/embree.log" >&2; exit 1; }
-fps=$(sed -n 's/^BENCHMARK_RENDER_AVG //p' "$work/embree.log")
-mrays=$(sed -n 's/^BENCHMARK_RENDER_MRAYPS_AVG //p' "$work/embree.log")
-[[ -n $fps ]] || { echo "compare_embree: no BENCHMARK_RENDER_AVG in pathtracer output:" >&2; cat "$work/embree.log" >&2; exit 1; }
+# 2. and 3. The tutorial and Sylva, alternately, `rounds` times; one line of figures per round.
+load() { cut -d' ' -f1 /proc/loadavg; }
+: >"$work/rounds"
+for ((r = 1; r <= rounds; ++r)); do
+  # The tutorial.
+  embree_load=$(load)
+  "$pathtracer" -i "$work/scene.obj" "${view[@]}" "${embree_extra[@]}" --spp 1 --benchmark 4 "$frames" --legacy \
+    --threads "$threads" >"$work/embree.log" 2>&1 || { cat "$work/embree.log" >&2; exit 1; }
+  fps=$(sed -n 's/^BENCHMARK_RENDER_AVG //p' "$work/embree.log")
+  mrays=$(sed -n 's/^BENCHMARK_RENDER_MRAYPS_AVG //p' "$work/embree.log")
+  [[ -n $fps ]] || { echo "compare_embree: no BENCHMARK_RENDER_AVG in pathtracer output:" >&2; cat "$work/embree.log" >&2; exit 1; }
 
-# 3. Sylva, same size, same paths per pixel, fixed seed.
-"$sylva" render ${scene:+"$scene"} -o "$work/sylva.exr" --res "$res" --spp "$frames" --seed 1 --threads "$threads" \
-  --checkpoint-minutes 0 >"$work/sylva.log" 2>&1 || { cat "$work/sylva.log" >&2; exit 1; }
-summary=$(grep 'M samples/s' "$work/sylva.log" | tail -1)
-[[ $summary =~ ([0-9.]+)\ M\ samples/s,\ ([0-9.]+)\ M\ rays/s ]] ||
-  { echo "compare_embree: no throughput line in sylva output:" >&2; cat "$work/sylva.log" >&2; exit 1; }
-sylva_msps=${BASH_REMATCH[1]}
-sylva_mrays=${BASH_REMATCH[2]}
+  # Sylva, same size, same paths per pixel, fixed seed.
+  sylva_load=$(load)
+  "$sylva" render ${scene:+"$scene"} -o "$work/sylva.exr" --res "$res" --spp "$frames" --seed 1 --threads "$threads" \
+    --checkpoint-minutes 0 >"$work/sylva.log" 2>&1 || { cat "$work/sylva.log" >&2; exit 1; }
+  summary=$(grep 'M samples/s' "$work/sylva.log" | tail -1)
+  [[ $summary =~ ([0-9.]+)\ M\ samples/s,\ ([0-9.]+)\ M\ rays/s ]] ||
+    { echo "compare_embree: no throughput line in sylva output:" >&2; cat "$work/sylva.log" >&2; exit 1; }
+  echo "$r $embree_load $fps ${mrays:-nan} $sylva_load ${BASH_REMATCH[1]} ${BASH_REMATCH[2]}" >>"$work/rounds"
+done
 
-awk -v w="$width" -v h="$height" -v fps="$fps" -v mrays="${mrays:-nan}" -v sms="$sylva_msps" -v smr="$sylva_mrays" 'BEGIN {
-  ems = w * h * fps / 1e6
-  printf "%-22s %12s %12s %12s\n", "", "M samples/s", "M rays/s", "rays/sample"
-  printf "%-22s %12.3f %12.3f %12.2f\n", "embree pathtracer", ems, mrays, mrays / ems
-  printf "%-22s %12.3f %12.3f %12.2f\n", "sylva", sms, smr, smr / sms
-  printf "ratio (sylva / embree pathtracer): samples/s %.3f, rays/s %.3f\n", sms / ems, smr / mrays
-}'
+sort -n "$work/rounds" | awk -v w="$width" -v h="$height" -v n="$rounds" '
+  function median(a, k,   i, j, t) {  # of a[1..k], sorted in place
+    for (i = 2; i <= k; ++i) for (j = i; j > 1 && a[j - 1] > a[j]; --j) { t = a[j]; a[j] = a[j - 1]; a[j - 1] = t }
+    return k % 2 ? a[(k + 1) / 2] : 0.5 * (a[k / 2] + a[k / 2 + 1])
+  }
+  {
+    ems[NR] = w * h * $3 / 1e6; emr[NR] = $4; sms[NR] = $6; smr[NR] = $7
+    rs[NR] = sms[NR] / ems[NR]; rr[NR] = smr[NR] / emr[NR]
+    if (n > 1) {
+      if (NR == 1) printf "%-6s %-6s %12s %12s %-6s %12s %12s %10s %10s\n", "round", "load", "embree Ms/s", "embree Mr/s", "load", "sylva Ms/s", "sylva Mr/s", "ratio s/s", "ratio r/s"
+      printf "%-6d %-6s %12.3f %12.3f %-6s %12.3f %12.3f %10.3f %10.3f\n", $1, $2, ems[NR], emr[NR], $5, sms[NR], smr[NR], rs[NR], rr[NR]
+    }
+  }
+  END {
+    if (n > 1) printf "median of %d rounds:\n", n
+    e_s = median(ems, NR); e_r = median(emr, NR); s_s = median(sms, NR); s_r = median(smr, NR)
+    printf "%-22s %12s %12s %12s\n", "", "M samples/s", "M rays/s", "rays/sample"
+    printf "%-22s %12.3f %12.3f %12.2f\n", "embree pathtracer", e_s, e_r, e_r / e_s
+    printf "%-22s %12.3f %12.3f %12.2f\n", "sylva", s_s, s_r, s_r / s_s
+    printf "ratio (sylva / embree pathtracer): samples/s %.3f, rays/s %.3f\n", median(rs, NR), median(rr, NR)
+  }'
