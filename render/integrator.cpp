@@ -63,7 +63,8 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
     if (!embree_.intersect(ray, &hit)) break;
     const HalfSpaceSolid* medium = turbid_solid(hit);
     if (medium == nullptr) return 0.0f;
-    const Vec3 n = normal_from_object(scene_.instances[hit.instance]) * hit.normal;
+    // Unit, as offset_ray_origin expects: the normal matrix scales it by 1/scale for scaled crowns.
+    const Vec3 n = glm::normalize(normal_from_object(scene_.instances[hit.instance]) * hit.normal);
     const bool entering = glm::dot(d, n) < 0.0f;
     // Leaving a crown: the segment since the last crossing (or the start) was inside it.
     if (!entering) optical_depth += static_cast<double>(kSphericalG * medium->leaf_area_density) * hit.t;

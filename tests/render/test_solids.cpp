@@ -128,4 +128,36 @@ TEST(TurbidCrown, TransmittanceIsBeersLaw) {
 }
 
 }  // namespace
+TEST(TurbidCrown, TransmittanceThroughASmallScaledCrown) {
+  // A turbid cube scaled to 2 cm (LAD 100): the normal matrix gives its world normals 100 times too
+  // long, and a crossing's origin offset must not grow with them — offset 100 times too far, the ray
+  // jumps centimetres, past the whole crown, which then lets everything through (T = 1 instead of
+  // about e^−1).
+  Scene scene;
+  Prototype a;
+  a.solids = {turbid_cube(100.0f)};
+  a.solid_palettes = {{0u}};
+  scene.add_prototype(a);
+  scene.instances.push_back({0, glm::scale(glm::translate(Mat4(1.0f), Vec3(10, 0, 0)), Vec3(0.01f)), 0});
+  const EmbreeScene embree(scene);
+  const Environment environment;
+  const Integrator integrator(scene, embree, environment, IntegratorSettings{});
+  Pcg32 rng(9);
+  uint64_t rays = 0;
+  const Mat4 inv = glm::inverse(scene.instances[0].world_from_object);
+  for (int i = 0; i < 100; ++i) {
+    const Vec3 o(-5.0f, rng.symmetric() * 0.008f, rng.symmetric() * 0.008f);
+    const Vec3 target(20.0f, rng.symmetric() * 0.008f, rng.symmetric() * 0.008f);
+    const Vec3 d = glm::normalize(target - o);
+    // Clipped in object space with the direction moved there unnormalised: t stays the world distance.
+    const RaySpan span = clip_ray(a.solids[0].planes, Vec3(inv * Vec4(o, 1.0f)), Vec3(inv * Vec4(d, 0.0f)));
+    ASSERT_FALSE(span.empty());
+    const double optical = kSphericalG * 100.0 * (span.t_exit - std::max(0.0, span.t_entry));
+    ASSERT_GT(optical, 0.5);
+    // Each entry's offset (256 ulps of |p| ≈ 0.24 mm at 10 m, offset_ray_origin) is not counted as
+    // inside: 1.2 % of this crown's optical depth.
+    EXPECT_NEAR(integrator.medium_transmittance(o, d, rays), std::exp(-optical), 0.03 * std::exp(-optical));
+  }
+}
+
 }  // namespace sylva
