@@ -82,19 +82,25 @@ HalfSpaceSolid turbid_cube(float lad) {
   return s;
 }
 
+// A scene of turbid cubes: per (LAD, world_from_object), a prototype holding one and its copy.
+Scene turbid_cubes(const std::vector<std::pair<float, Mat4>>& cubes) {
+  Scene scene;
+  for (const auto& [lad, world_from_object] : cubes) {
+    Prototype p;
+    p.solids = {turbid_cube(lad)};
+    p.solid_palettes = {{0u}};
+    scene.instances.push_back({scene.add_prototype(p), world_from_object, 0});
+  }
+  return scene;
+}
+
 TEST(TurbidCrown, TransmittanceIsBeersLaw) {
   // Two turbid cubes (LAD 1.5 and 0.6, the second scaled ×2) and an opaque one: along any segment
   // missing the opaque cube, T = exp(−G·Σ LAD_i·path_i) with G = 1/2; shadow rays ignore media.
-  Scene scene;
-  Prototype a, b;
-  a.solids = {turbid_cube(1.5f)};
-  a.solid_palettes = {{0u}};
-  b.solids = {turbid_cube(0.6f)};
-  b.solid_palettes = {{0u}};
-  scene.add_prototype(a);
-  scene.add_prototype(b);
-  scene.instances.push_back({0, glm::translate(Mat4(1.0f), Vec3(0, 0, 0)), 0});
-  scene.instances.push_back({1, glm::scale(glm::translate(Mat4(1.0f), Vec3(6, 0, 0)), Vec3(2.0f)), 0});
+  const Scene scene =
+      turbid_cubes({{1.5f, Mat4(1.0f)}, {0.6f, glm::scale(glm::translate(Mat4(1.0f), Vec3(6, 0, 0)), Vec3(2.0f))}});
+  const HalfSpaceSolid& a = scene.prototypes[0].solids[0];
+  const HalfSpaceSolid& b = scene.prototypes[1].solids[0];
   const EmbreeScene embree(scene);
   const Environment environment;
   const Integrator integrator(scene, embree, environment, IntegratorSettings{});
@@ -106,7 +112,7 @@ TEST(TurbidCrown, TransmittanceIsBeersLaw) {
     const Vec3 d = glm::normalize(target - o);
     // Path lengths inside each box by clipping (the reference, independent of Embree).
     double optical = 0.0;
-    for (const auto& [solid, inst] : {std::pair{&a.solids[0], 0}, std::pair{&b.solids[0], 1}}) {
+    for (const auto& [solid, inst] : {std::pair{&a, 0}, std::pair{&b, 1}}) {
       const Mat4 inv = glm::inverse(scene.instances[size_t(inst)].world_from_object);
       const RaySpan span = clip_ray(solid->planes, Vec3(inv * Vec4(o, 1.0f)), Vec3(inv * Vec4(d, 0.0f)));
       if (!span.empty() && span.t_exit > 0)
@@ -118,10 +124,10 @@ TEST(TurbidCrown, TransmittanceIsBeersLaw) {
     // From inside the first cube.
     const Vec3 inside(0.2f, 0.1f, -0.3f);
     const Vec3 d2 = glm::normalize(target - inside);
-    const RaySpan s2 = clip_ray(a.solids[0].planes, inside, d2);
+    const RaySpan s2 = clip_ray(a.planes, inside, d2);
     double optical2 = kSphericalG * 1.5 * s2.t_exit;
     const Mat4 inv = glm::inverse(scene.instances[1].world_from_object);
-    const RaySpan s3 = clip_ray(b.solids[0].planes, Vec3(inv * Vec4(inside, 1.0f)), Vec3(inv * Vec4(d2, 0.0f)));
+    const RaySpan s3 = clip_ray(b.planes, Vec3(inv * Vec4(inside, 1.0f)), Vec3(inv * Vec4(d2, 0.0f)));
     if (!s3.empty() && s3.t_exit > 0) optical2 += kSphericalG * 0.6 * (s3.t_exit - std::max(0.0, s3.t_entry));
     EXPECT_NEAR(integrator.medium_transmittance(inside, d2, rays), std::exp(-optical2), 2e-4);
   }
@@ -133,12 +139,7 @@ TEST(TurbidCrown, TransmittanceThroughASmallScaledCrown) {
   // long, and a crossing's origin offset must not grow with them — offset 100 times too far, the ray
   // jumps centimetres, past the whole crown, which then lets everything through (T = 1 instead of
   // about e^−1).
-  Scene scene;
-  Prototype a;
-  a.solids = {turbid_cube(100.0f)};
-  a.solid_palettes = {{0u}};
-  scene.add_prototype(a);
-  scene.instances.push_back({0, glm::scale(glm::translate(Mat4(1.0f), Vec3(10, 0, 0)), Vec3(0.01f)), 0});
+  const Scene scene = turbid_cubes({{100.0f, glm::scale(glm::translate(Mat4(1.0f), Vec3(10, 0, 0)), Vec3(0.01f))}});
   const EmbreeScene embree(scene);
   const Environment environment;
   const Integrator integrator(scene, embree, environment, IntegratorSettings{});
@@ -150,7 +151,8 @@ TEST(TurbidCrown, TransmittanceThroughASmallScaledCrown) {
     const Vec3 target(20.0f, rng.symmetric() * 0.008f, rng.symmetric() * 0.008f);
     const Vec3 d = glm::normalize(target - o);
     // Clipped in object space with the direction moved there unnormalised: t stays the world distance.
-    const RaySpan span = clip_ray(a.solids[0].planes, Vec3(inv * Vec4(o, 1.0f)), Vec3(inv * Vec4(d, 0.0f)));
+    const RaySpan span =
+        clip_ray(scene.prototypes[0].solids[0].planes, Vec3(inv * Vec4(o, 1.0f)), Vec3(inv * Vec4(d, 0.0f)));
     ASSERT_FALSE(span.empty());
     const double optical = kSphericalG * 100.0 * (span.t_exit - std::max(0.0, span.t_entry));
     ASSERT_GT(optical, 0.5);
