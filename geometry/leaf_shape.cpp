@@ -12,10 +12,6 @@ namespace {
 constexpr std::array<std::string_view, static_cast<size_t>(LeafShape::Count)> kNames = {
     "rectangle", "oval", "triangle", "oak3", "maple3", "maple5", "leaflets3", "right_triangle"};
 
-bool inside_ellipse(float u, float v, float cu, float cv, float ru, float rv) {
-  return sqr((u - cu) / ru) + sqr((v - cv) / rv) <= 1.0f;
-}
-
 // An ellipse with semi-axes (ru across, rv along) whose long axis is turned by `angle_rad` from +v
 // toward +u.
 bool inside_rotated_ellipse(float u, float v, float cu, float cv, float ru, float rv, float cos_a, float sin_a) {

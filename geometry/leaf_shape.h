@@ -26,12 +26,15 @@ enum class LeafShape : uint8_t {
 // True where the leaf is opaque. Pure, branch-light: it runs inside Embree's filter callbacks.
 bool leaf_shape_inside(LeafShape shape, float u, float v);
 
-// LeafShape::Oval's test, inline for the leaf filter of geometry whose leaves are all oval (Weber &
-// Penn's default): the ellipse inscribed in the unit square.
-inline bool inside_oval(float u, float v) {
-  const float du = (u - 0.5f) / 0.5f, dv = (v - 0.5f) / 0.5f;
+// Whether (u, v) lies in the axis-aligned ellipse of centre (cu, cv) and semi-axes (ru, rv).
+inline bool inside_ellipse(float u, float v, float cu, float cv, float ru, float rv) {
+  const float du = (u - cu) / ru, dv = (v - cv) / rv;
   return du * du + dv * dv <= 1.0f;
 }
+
+// LeafShape::Oval's test, inline for the leaf filter of geometry whose leaves are all oval (Weber &
+// Penn's default): the ellipse inscribed in the unit square.
+inline bool inside_oval(float u, float v) { return inside_ellipse(u, v, 0.5f, 0.5f, 0.5f, 0.5f); }
 
 // Fraction of the unit square covered by the outline (the leaf's area / quad area).
 float leaf_shape_coverage(LeafShape shape);
