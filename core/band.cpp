@@ -168,17 +168,19 @@ WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
     w = std::vector<float>(first, last);
   }
   distribution_ = Distribution1D(w);
+  hi_nm_ = std::nextafter(lo_nm_ + range_nm_, 0.0f);
 }
 
 SampledWavelengths WavelengthSampler::sample(float u) const {
   SampledWavelengths wl;
-  const float hi = std::nextafter(lo_nm_ + range_nm_, 0.0f);
   for (int i = 0; i < kLambdaCount; ++i) {
     float ui = u + static_cast<float>(i) / kLambdaCount;
     if (ui >= 1.0f) ui -= 1.0f;
     const float x = distribution_.sample(ui, nullptr);
-    wl.lambda_nm[i] = std::min(lo_nm_ + x * range_nm_, hi);
-    wl.pdf[i] = pdf(wl.lambda_nm[i]);  // evaluated from λ so it agrees with pdf() at bin edges
+    const float lambda = std::min(lo_nm_ + x * range_nm_, hi_nm_);
+    wl.lambda_nm[i] = lambda;
+    // pdf(λ), evaluated from λ so it agrees with pdf() at bin edges; λ is inside [lo, hi].
+    wl.pdf[i] = distribution_.pdf((lambda - lo_nm_) / range_nm_) / range_nm_;
   }
   return wl;
 }

@@ -10,6 +10,7 @@
 #include "core/sampling.h"
 #include "core/spectrum.h"
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -68,6 +69,7 @@ class WavelengthSampler {
   Distribution1D distribution_;
   float lo_nm_ = kLambdaMin;
   float range_nm_ = kLambdaMax - kLambdaMin;
+  float hi_nm_ = std::nextafter(kLambdaMax, 0.0f);  // the largest λ sampled: below lo + range
 };
 
 }  // namespace sylva

@@ -43,20 +43,6 @@ Distribution1D::Distribution1D(const std::vector<float>& weights) : bins_(weight
   integral_ = tabulate(weights.data(), static_cast<int>(weights.size()), bins_.data(), guide_.data());
 }
 
-float sample_bins(const DistributionBin* bins, const uint32_t* guide, int n, float u, float* pdf, int* bin) {
-  // Last bin whose cdf start is <= u (found from the guide table: O(1) on average), then back over
-  // bins with no mass.
-  int i = static_cast<int>(guide[bin_index(u, n)]);
-  while (i > 0 && bins[i].cdf > u) --i;
-  while (i + 1 < n && bins[i + 1].cdf <= u) ++i;
-  while (i > 0 && bins[i + 1].cdf == bins[i].cdf) --i;
-  const float width = bins[i + 1].cdf - bins[i].cdf;
-  const float du = width > 0 ? (u - bins[i].cdf) / width : 0.5f;
-  if (pdf) *pdf = bins[i].pdf;
-  if (bin) *bin = i;
-  return std::min((static_cast<float>(i) + std::clamp(du, 0.0f, 1.0f)) / static_cast<float>(n), 0x1.fffffep-1f);
-}
-
 Distribution2D::Distribution2D(const std::vector<float>& weights, int nu, int nv)
     : nu_(nu),
       row_bins_(static_cast<size_t>(nu + 1) * static_cast<size_t>(nv)),

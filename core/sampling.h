@@ -48,7 +48,19 @@ inline int bin_index(float x, int n) { return std::clamp(static_cast<int>(x * st
 // Inverse-CDF sampling over n bins of `bins` (n + 1 entries, the last {1, 0}) with the cut-point
 // guide table `guide` (guide[k]: last bin whose cdf start ≤ k/n): the continuous sample in [0, 1),
 // its density and its bin.
-float sample_bins(const DistributionBin* bins, const uint32_t* guide, int n, float u, float* pdf, int* bin);
+inline float sample_bins(const DistributionBin* bins, const uint32_t* guide, int n, float u, float* pdf, int* bin) {
+  // Last bin whose cdf start is <= u (found from the guide table: O(1) on average), then back over
+  // bins with no mass.
+  int i = static_cast<int>(guide[bin_index(u, n)]);
+  while (i > 0 && bins[i].cdf > u) --i;
+  while (i + 1 < n && bins[i + 1].cdf <= u) ++i;
+  while (i > 0 && bins[i + 1].cdf == bins[i].cdf) --i;
+  const float width = bins[i + 1].cdf - bins[i].cdf;
+  const float du = width > 0 ? (u - bins[i].cdf) / width : 0.5f;
+  if (pdf) *pdf = bins[i].pdf;
+  if (bin) *bin = i;
+  return std::min((static_cast<float>(i) + std::clamp(du, 0.0f, 1.0f)) / static_cast<float>(n), 0x1.fffffep-1f);
+}
 
 // Piecewise-constant 1-D distribution over [0, 1) with n equal bins.
 class Distribution1D {

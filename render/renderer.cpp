@@ -132,15 +132,24 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
       w0[i] = &interleaved_weights_[static_cast<size_t>(g.index) * nc];
       f[i] = g.fraction;
     }
-    for (size_t c = 0; c < nc; ++c) {
-      float v = 0, a = 0;
-      for (int i = 0; i < kLambdaCount; ++i) {
-        const float w = (w0[i][c] + f[i] * (w0[i][nc + c] - w0[i][c])) / wl.pdf[i];
-        v += L[i] * w;
-        a += first.albedo[i] * w;
+    // Wavelength by wavelength, each channel's sums in the same order as channel by channel, so the
+    // compiler can run the channels side by side (same bits).
+    float* v = values;
+    float* a = values + nc;
+    std::fill_n(values, 2 * nc, 0.0f);
+    for (int i = 0; i < kLambdaCount; ++i) {
+      const float* lo = w0[i];
+      const float* hi = w0[i] + nc;
+      const float fi = f[i], pdf = wl.pdf[i], li = L[i], ai = first.albedo[i];
+      for (size_t c = 0; c < nc; ++c) {
+        const float w = (lo[c] + fi * (hi[c] - lo[c])) / pdf;
+        v[c] += li * w;
+        a[c] += ai * w;
       }
-      values[c] = v / kLambdaCount * scale_[c];
-      values[nc + c] = weight_integrals_[c] != 0 ? a / (kLambdaCount * weight_integrals_[c]) : 0.0f;
+    }
+    for (size_t c = 0; c < nc; ++c) {
+      v[c] = v[c] / kLambdaCount * scale_[c];
+      a[c] = weight_integrals_[c] != 0 ? a[c] / (kLambdaCount * weight_integrals_[c]) : 0.0f;
     }
     film.add_sample(x, y, values);
   }
