@@ -61,10 +61,10 @@ std::array<float, 4> bezier_derivative_weights(float t) {
 }  // namespace
 
 void tessellate_ribbons(const CurveSet& curves, int segments, std::vector<Vec3>& positions,
-                        std::vector<glm::uvec3>& triangles) {
+                        std::vector<glm::uvec4>& quads) {
   if (segments < 1) throw Error("a ribbon needs at least one segment");
   positions.reserve(positions.size() + curves.size() * 2 * size_t(segments + 1));
-  triangles.reserve(triangles.size() + curves.size() * 2 * size_t(segments));
+  quads.reserve(quads.size() + curves.size() * size_t(segments));
   for (size_t k = 0; k < curves.size(); ++k) {
     const Vec4* cp = &curves.points[4 * k];
     const Vec3* cn = &curves.normals[4 * k];
@@ -89,9 +89,10 @@ void tessellate_ribbons(const CurveSet& curves, int segments, std::vector<Vec3>&
       positions.push_back(Vec3(p) + p.w * side);
     }
     for (int i = 0; i < segments; ++i) {
-      const uint32_t a = first + 2 * uint32_t(i);  // a, a+1 at t_i; a+2, a+3 at t_(i+1)
-      triangles.emplace_back(a, a + 1, a + 3);
-      triangles.emplace_back(a, a + 3, a + 2);
+      // a, a+1 at t_i; a+2, a+3 at t_(i+1): the triangles (a+1, a+3, a) and (a+2, a, a+3), split
+      // along the diagonal from a to a+3.
+      const uint32_t a = first + 2 * uint32_t(i);
+      quads.emplace_back(a + 1, a + 3, a + 2, a);
     }
   }
 }

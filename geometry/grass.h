@@ -34,15 +34,16 @@ struct GrassParams {
   float bend = 0.4f;              // 0 = upright, 1 = the tip bent over to horizontal
 };
 
-// The ribbons of `curves` as flat triangle strips, `segments` quads (two triangles each) per curve,
-// appended to `positions` and `triangles`: curve k's triangles are 2·segments·k …
-// 2·segments·(k+1) − 1 counted from the first appended. The strip's vertices lie on the ribbon's
-// edges, P(t) ± r(t)·normalize(cross(P'(t), N(t))) at t = i/segments, with P, r and N the cubic
-// Bézier interpolants of the control points, half-widths and normals (Embree's normal-oriented
-// curves). This is how the renderer hands grass to Embree: its triangles traverse several times
-// faster than its normal-oriented curves (bench/README.md, "Grass as triangle strips").
+// The ribbons of `curves` as flat strips of `segments` quads per curve, appended to `positions` and
+// `quads`: curve k's quads are segments·k … segments·(k+1) − 1 counted from the first appended. A
+// quad (q0, q1, q2, q3) is the two triangles (q0, q1, q3) and (q2, q3, q1), Embree's split of its
+// own quads. The strip's vertices lie on the ribbon's edges, P(t) ± r(t)·normalize(cross(P'(t),
+// N(t))) at t = i/segments, with P, r and N the cubic Bézier interpolants of the control points,
+// half-widths and normals (Embree's normal-oriented curves). This is how the renderer hands grass to
+// Embree: its quads traverse several times faster than its normal-oriented curves (bench/README.md,
+// "Grass as triangle strips").
 void tessellate_ribbons(const CurveSet& curves, int segments, std::vector<Vec3>& positions,
-                        std::vector<glm::uvec3>& triangles);
+                        std::vector<glm::uvec4>& quads);
 
 // A patch centred on the origin, blades rooted at z = 0, Z up. Blade i's draws come from
 // hash_ids(seed, i): base position uniform in the square, heading uniform, lean and length varied.

@@ -23,13 +23,59 @@ namespace sylva {
 
 namespace {
 
-// A leaf quad reaches Embree as two triangles, (c0, c1, c3) and (c2, c3, c1) — the split Embree's
-// own quads use — because its triangle BVH traverses faster than its quad BVH (bench/README.md,
-// "Leaves as triangle pairs"). Triangle 2i+k of the leaf geometry is half k of leaf i; this maps a
-// hit's barycentrics (b1, b2) to the leaf's quad coordinates (u, v): b1 and b2 weigh c1 and c3 in
-// the first half and c3 and c1 in the second, where the quad point is (u+v−1)·c2 + (1−u)·c3 + (1−v)·c1.
-Vec2 leaf_quad_coordinates(unsigned triangle, float b1, float b2) {
-  return (triangle & 1u) ? Vec2(1.0f - b1, 1.0f - b2) : Vec2(b1, b2);
+// Every prototype's surfaces reach Embree as one primitive type, quads, because Embree builds a
+// BVH per primitive type in a scene and a ray would traverse each (bench/README.md, "One quad BVH
+// per prototype"). A quad (q0, q1, q2, q3) is Embree's two triangles (q0, q1, q3) and (q2, q3, q1);
+// a hit's (u, v) weigh q1 and q3 on the first half, and give (u+v−1)·q2 + (1−u)·q3 + (1−v)·q1 on the
+// second. A leaf is one quad (c0, c1, c2, c3): (u, v) are its quad coordinates. A grass ribbon is
+// a strip of quads. Mesh triangles are paired (MeshQuads).
+
+// A triangle mesh as quads: consecutive triangles (a, b, c), (a, c, d) — a quad split along its
+// diagonal a–c, as every mesher here emits them — become the one quad (b, c, d, a), whose halves
+// (b, c, a) and (d, a, c) are the two triangles; any other triangle (a, b, c) becomes (a, b, c, c),
+// whose second half is degenerate and never hit (Embree's triangle intersection, to the bit). The
+// pairs halve the primitives of a tube. Unless `pair`, every triangle stays alone: the weight
+// 1 − u − v of a paired hit is exact only to 6·10⁻⁸, which on a ground plane kilometres wide is
+// millimetres (robust prototypes are not paired).
+constexpr uint32_t kPairedQuad = 1u << 31;  // in MeshQuads::first: the quad holds two triangles
+
+struct MeshQuads {
+  std::vector<glm::uvec4> quads;
+  std::vector<uint32_t> first;  // per quad: its first triangle, | kPairedQuad when it holds two
+};
+
+MeshQuads mesh_quads(const std::vector<glm::uvec3>& triangles, bool pair) {
+  if (triangles.size() >= kPairedQuad)
+    throw Error(fmt::format("{} triangles are too many for one mesh", triangles.size()));
+  MeshQuads m;
+  m.quads.reserve(triangles.size());
+  m.first.reserve(triangles.size());
+  for (size_t i = 0; i < triangles.size(); ++i) {
+    const glm::uvec3 t = triangles[i];
+    if (pair && i + 1 < triangles.size() && triangles[i + 1].x == t.x && triangles[i + 1].y == t.z) {
+      m.quads.emplace_back(t.y, t.z, triangles[i + 1].z, t.x);
+      m.first.push_back(static_cast<uint32_t>(i) | kPairedQuad);
+      ++i;
+    } else {
+      m.quads.emplace_back(t.x, t.y, t.z, t.z);
+      m.first.push_back(static_cast<uint32_t>(i));
+    }
+  }
+  return m;
+}
+
+// A hit (u, v) on a mesh quad whose MeshQuads::first is `first`: the triangle, and its barycentrics
+// b1, b2 (the weights of its second and third corners, as Embree's triangles give them).
+struct TriangleHit {
+  uint32_t triangle;
+  float b1, b2;
+};
+TriangleHit mesh_triangle_hit(uint32_t first, float u, float v) {
+  if (!(first & kPairedQuad)) return {first, u, v};
+  const uint32_t t = first & ~kPairedQuad;
+  // (b, c, a) weighted (1−u−v, u, v) on the first half; (d, a, c) as above on the second.
+  if (u + v <= 1.0f) return {t, 1.0f - u - v, u};
+  return {t + 1, 1.0f - v, u + v - 1.0f};
 }
 
 // What the leaf filters read: the outlines, and the corners and stem index Integrator::interaction
@@ -53,19 +99,19 @@ void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
   const auto& data = *static_cast<const LeafFilterData*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
-    const Vec2 uv = leaf_quad_coordinates(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+    const unsigned leaf = RTCHitN_primID(args->hit, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
     bool inside;
     if constexpr (kOval)
-      inside = inside_oval(uv.x, uv.y);
+      inside = inside_oval(u, v);
     else
-      inside = leaf_shape_inside(data.one_shape ? data.shape : data.shapes[prim >> 1], uv.x, uv.y);
+      inside = leaf_shape_inside(data.one_shape ? data.shape : data.shapes[leaf], u, v);
     if (!inside) {
       args->valid[i] = 0;
     } else if constexpr (kPrefetch) {
-      __builtin_prefetch(data.corners + 4 * size_t(prim >> 1));
-      __builtin_prefetch(data.corners + 4 * size_t(prim >> 1) + 3);
-      if (data.stems) __builtin_prefetch(data.stems + (prim >> 1));
+      __builtin_prefetch(data.corners + 4 * size_t(leaf));
+      __builtin_prefetch(data.corners + 4 * size_t(leaf) + 3);
+      if (data.stems) __builtin_prefetch(data.stems + leaf);
     }
   }
 }
@@ -132,10 +178,18 @@ void curve_near_filter(const RTCFilterFunctionNArguments* args) {
   }
 }
 
-// Grass ribbons reach Embree as triangle strips of this many quads per blade (tessellate_ribbons):
-// Embree's normal-oriented Bézier curves cost about 40 % of the default forest's render time, its
-// triangles a fraction of that, and six straight pieces follow a blade's arc to well under its width.
+// Grass ribbons reach Embree as strips of this many quads per blade (tessellate_ribbons): Embree's
+// normal-oriented Bézier curves cost about 40 % of the default forest's render time, flat pieces a
+// fraction of that, and six straight pieces follow a blade's arc to well under its width.
 constexpr int kRibbonSegments = 6;
+
+// A new index buffer of `g`, a quad geometry, filled with `quads`.
+void set_quads(RTCGeometry g, const std::vector<glm::uvec4>& quads) {
+  auto* idx = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), quads.size()));
+  for (size_t i = 0; i < quads.size(); ++i)
+    for (int k = 0; k < 4; ++k) idx[4 * i + k] = quads[i][k];
+}
 
 // A new vertex buffer of `g` filled with `points`.
 void set_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
@@ -328,7 +382,8 @@ struct EmbreeScene::Impl {
   std::vector<uint8_t> embree_curves;   // per prototype: its curves are Embree curves, not strips
   std::vector<unsigned> disc_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
   std::vector<uint32_t> instance_prototype;
-  std::deque<LeafFilterData> leaf_filters;  // user data of the leaf geometries (stable addresses)
+  std::vector<std::vector<uint32_t>> mesh_quad_first;  // per prototype: MeshQuads::first of its mesh
+  std::deque<LeafFilterData> leaf_filters;             // user data of the leaf geometries (stable addresses)
   // The instance array (uses_instance_array): per prototype its object-space bounds; `array` points
   // into them, the prototypes' scenes and the Scene's instances.
   std::vector<Bounds3> prototype_bounds;
@@ -373,6 +428,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
   RTCDevice device = impl_->device;
 
   const std::vector<bool> robust = robust_prototypes(scene);
+  impl_->mesh_quad_first.resize(scene.prototypes.size());
   for (size_t p = 0; p < scene.prototypes.size(); ++p) {
     const Prototype& proto = scene.prototypes[p];
     RTCScene s = rtcNewScene(device);
@@ -381,18 +437,16 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     unsigned leaf_id = RTC_INVALID_GEOMETRY_ID;
     const TriangleMesh& tm = proto.triangles;
     if (!tm.triangles.empty()) {
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      set_vertices(g, tm.positions);
-      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), tm.triangles.size()));
       for (size_t i = 0; i < tm.triangles.size(); ++i) {
         const glm::uvec3 t = tm.triangles[i];
         if (t.x >= tm.positions.size() || t.y >= tm.positions.size() || t.z >= tm.positions.size())
           throw Error(fmt::format("prototype '{}': triangle {} indexes a missing vertex", proto.name, i));
-        idx[3 * i] = t.x;
-        idx[3 * i + 1] = t.y;
-        idx[3 * i + 2] = t.z;
       }
+      MeshQuads mq = mesh_quads(tm.triangles, !robust[p]);
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
+      set_vertices(g, tm.positions);
+      set_quads(g, mq.quads);
+      impl_->mesh_quad_first[p] = std::move(mq.first);
       rtcCommitGeometry(g);
       const unsigned id = rtcAttachGeometry(s, g);
       rtcReleaseGeometry(g);
@@ -405,15 +459,11 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
         throw Error(fmt::format("prototype '{}': leaf quads need 4 corners per leaf", proto.name));
       if (!lq.stem.empty() && lq.stem.size() != lq.size())
         throw Error(fmt::format("prototype '{}': leaf quads need one stem index per leaf (or none)", proto.name));
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
       set_vertices(g, lq.corners);
       auto* idx = static_cast<unsigned*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2 * lq.size()));
-      for (size_t i = 0; i < lq.size(); ++i) {
-        const auto c = static_cast<unsigned>(4 * i);
-        const unsigned halves[6] = {c, c + 1, c + 3, c + 2, c + 3, c + 1};
-        std::copy(halves, halves + 6, idx + 6 * i);
-      }
+          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), lq.size()));
+      for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);
       LeafFilterData& filter = impl_->leaf_filters.emplace_back();
       filter.shapes = lq.shapes.data();
       filter.corners = lq.corners.data();
@@ -477,16 +527,13 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
         rtcSetGeometryIntersectFilterFunction(g, curve_near_filter);
         rtcSetGeometryOccludedFilterFunction(g, curve_near_filter);
       } else {
-        // Ribbons (grass blades) as triangle strips.
+        // Ribbons (grass blades) as quad strips.
         std::vector<Vec3> points;
-        std::vector<glm::uvec3> strips;
+        std::vector<glm::uvec4> strips;
         tessellate_ribbons(cs, kRibbonSegments, points, strips);
-        g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
         set_vertices(g, points);
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(unsigned), strips.size()));
-        for (size_t i = 0; i < strips.size(); ++i)
-          for (int k = 0; k < 3; ++k) idx[3 * i + k] = strips[i][k];
+        set_quads(g, strips);
       }
       rtcCommitGeometry(g);
       curve_id = rtcAttachGeometry(s, g);
@@ -761,16 +808,16 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   if (hit->instance == RTC_INVALID_GEOMETRY_ID) return false;
   const uint32_t proto = impl_->instance_prototype[hit->instance];
   hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[proto];
-  if (hit->leaf) {
-    const Vec2 uv = leaf_quad_coordinates(rh.hit.primID, rh.hit.u, rh.hit.v);
-    hit->primitive = rh.hit.primID >> 1;
-    hit->u = uv.x;
-    hit->v = uv.y;
-  }
   hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
   hit->curve = rh.hit.geomID == impl_->curve_geom_id[proto];
   hit->disc = rh.hit.geomID == impl_->disc_geom_id[proto];
-  if (hit->curve && !impl_->embree_curves[proto]) hit->primitive = rh.hit.primID / (2 * kRibbonSegments);
+  if (hit->curve && !impl_->embree_curves[proto]) hit->primitive = rh.hit.primID / kRibbonSegments;
+  if (!hit->leaf && !hit->solid && !hit->curve && !hit->disc) {
+    const TriangleHit t = mesh_triangle_hit(impl_->mesh_quad_first[proto][rh.hit.primID], rh.hit.u, rh.hit.v);
+    hit->primitive = t.triangle;
+    hit->u = t.b1;
+    hit->v = t.b2;
+  }
   if (hit->solid || hit->curve) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }

@@ -194,9 +194,10 @@ TEST(Grass, PatchBladesRootedInTheSquare) {
   EXPECT_EQ(make_grass_patch(g, 2).points, c.points);
 }
 
-// The triangle strips the renderer traces (tessellate_ribbons): each blade's strip starts at its
-// base control point and ends at its tip, spans the blade's width across its normal, and its area
-// converges to the ribbon's, ∫ 2 r(t) |P'(t)| dt, estimated here with a fine midpoint rule.
+// The quad strips the renderer traces (tessellate_ribbons): each blade's strip starts at its base
+// control point and ends at its tip, spans the blade's width across its normal, and its area — each
+// quad's two triangles (q0, q1, q3) and (q2, q3, q1), as Embree splits it — converges to the
+// ribbon's, ∫ 2 r(t) |P'(t)| dt, estimated here with a fine midpoint rule.
 TEST(Grass, RibbonStripsFollowTheBladesAndKeepTheirArea) {
   GrassParams g;
   g.patch_size_m = 0.5f;
@@ -205,15 +206,18 @@ TEST(Grass, RibbonStripsFollowTheBladesAndKeepTheirArea) {
   const CurveSet c = make_grass_patch(g, 5);
   ASSERT_GT(c.size(), 50u);
   const auto strip_area = [&](int segments, std::vector<Vec3>* points) {
-    std::vector<glm::uvec3> triangles;
+    std::vector<glm::uvec4> quads;
     points->clear();
-    tessellate_ribbons(c, segments, *points, triangles);
-    EXPECT_EQ(triangles.size(), c.size() * 2 * size_t(segments));
+    tessellate_ribbons(c, segments, *points, quads);
+    EXPECT_EQ(quads.size(), c.size() * size_t(segments));
     EXPECT_EQ(points->size(), c.size() * 2 * size_t(segments + 1));
+    const auto triangle_area = [&](uint32_t a, uint32_t b, uint32_t d) {
+      return 0.5 * glm::length(glm::cross((*points)[b] - (*points)[a], (*points)[d] - (*points)[a]));
+    };
     double area = 0.0;
-    for (const glm::uvec3& t : triangles) {
-      EXPECT_LT(std::max({t.x, t.y, t.z}), points->size());
-      area += 0.5 * glm::length(glm::cross((*points)[t.y] - (*points)[t.x], (*points)[t.z] - (*points)[t.x]));
+    for (const glm::uvec4& q : quads) {
+      EXPECT_LT(std::max({q.x, q.y, q.z, q.w}), points->size());
+      area += triangle_area(q.x, q.y, q.w) + triangle_area(q.z, q.w, q.y);
     }
     return area;
   };

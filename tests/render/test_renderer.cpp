@@ -1,6 +1,6 @@
 // The renderer's API: regions and sample ranges, exact film merges (split by samples, by tiles and
-// both, bit-identical to one render), one Embree scene shared by several renderers, and the stem
-// of a leaf recovered from a hit.
+// both, bit-identical to one render), one Embree scene shared by several renderers, the stem of a
+// leaf recovered from a hit, and the triangle and barycentrics of a mesh hit.
 
 #include "core/error.h"
 #include "geometry/trees/tree_mesher.h"
@@ -329,6 +329,66 @@ TEST(LeafStem, AHitLeafNamesTheStemThatCarriesIt) {
       ++cloud_hits;
     }
   EXPECT_GT(cloud_hits, 10);
+}
+
+// Mesh triangles reach Embree paired into quads (render/embree_scene.cpp, MeshQuads): a hit still
+// names the mesh's own triangle, with barycentrics on that triangle's corners. The mesh holds a fan
+// pair (a, b, c), (a, c, d) over a non-planar square, which becomes one quad; a pair split along the
+// other diagonal and a lone triangle, which stay triangles. Rays straight down at a grid of points:
+// each hit names the triangle under the point, and its barycentrics give back the point.
+TEST(MeshHits, PairedAndLoneTrianglesKeepTheirIndexAndBarycentrics) {
+  TriangleMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0.1f}, {1, 1, 0.3f}, {0, 1, 0.05f},  // fan pair over [0,1]²
+                    {2, 0, 0}, {3, 0, 0.2f}, {3, 1, 0},    {2, 1, 0.1f},   // pair split along 5–7
+                    {4, 0, 0}, {5, 0, 0},    {4, 1, 0.2f}};                // a lone triangle
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 7}, {5, 6, 7}, {8, 9, 10}};
+  Scene scene;
+  const uint32_t m = scene.add_material("grey", make_diffuse("grey", DenseSpectrum::constant(0.5f)));
+  Prototype proto;
+  proto.name = "mesh";
+  proto.triangles = mesh;
+  proto.triangle_material = m;
+  const Vec3 offset(10, -3, 1);
+  scene.instances.push_back({scene.add_prototype(std::move(proto)), glm::translate(Mat4(1.0f), offset), 0});
+  const EmbreeScene embree(scene);
+  const Environment environment(scene.sun, scene.sky);
+  const Integrator integrator(scene, embree, environment, IntegratorSettings{});
+
+  // The triangle whose (x, y) projection holds (x, y), or −1.
+  const auto triangle_under = [&](float x, float y) {
+    for (size_t k = 0; k < mesh.triangles.size(); ++k) {
+      const glm::uvec3 t = mesh.triangles[k];
+      const Vec2 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
+      const auto side = [](Vec2 p, Vec2 q, Vec2 r) { return (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x); };
+      const Vec2 p(x, y);
+      const float s0 = side(a, b, p), s1 = side(b, c, p), s2 = side(c, a, p);
+      if ((s0 > 0 && s1 > 0 && s2 > 0) || (s0 < 0 && s1 < 0 && s2 < 0)) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  std::vector<int> hits_per_triangle(mesh.triangles.size(), 0);
+  for (int i = 0; i < 100; ++i)
+    for (int j = 0; j < 20; ++j) {
+      const float x = 5.0f * (i + 0.37f) / 100.0f, y = (j + 0.41f) / 20.0f;
+      const int expected = triangle_under(x, y);
+      const Ray ray{offset + Vec3(x, y, 5), Vec3(0, 0, -1)};
+      RayHit hit;
+      if (!embree.intersect(ray, &hit)) {
+        EXPECT_EQ(expected, -1) << x << ", " << y;
+        continue;
+      }
+      ASSERT_GE(expected, 0) << x << ", " << y;
+      EXPECT_FALSE(hit.leaf);
+      ASSERT_EQ(hit.primitive, static_cast<uint32_t>(expected)) << x << ", " << y;
+      ++hits_per_triangle[expected];
+      const glm::uvec3 t = mesh.triangles[hit.primitive];
+      const Vec3 on_ray = ray.origin + hit.t * ray.direction - offset;
+      const Vec3 from_barycentrics =
+          (1.0f - hit.u - hit.v) * mesh.positions[t.x] + hit.u * mesh.positions[t.y] + hit.v * mesh.positions[t.z];
+      EXPECT_LT(glm::length(from_barycentrics - on_ray), 1e-5f) << "triangle " << hit.primitive;
+      EXPECT_LT(glm::length(integrator.interaction(ray, hit).p - offset - on_ray), 1e-5f);
+    }
+  for (size_t k = 0; k < mesh.triangles.size(); ++k) EXPECT_GT(hits_per_triangle[k], 50) << "triangle " << k;
 }
 
 }  // namespace
