@@ -40,8 +40,8 @@ struct GrassParams {
 // own quads. The strip's vertices lie on the ribbon's edges, P(t) ± r(t)·normalize(cross(P'(t),
 // N(t))) at t = i/segments, with P, r and N the cubic Bézier interpolants of the control points,
 // half-widths and normals (Embree's normal-oriented curves). This is how the renderer hands grass to
-// Embree: its quads traverse several times faster than its normal-oriented curves (bench/README.md,
-// "Grass as triangle strips").
+// Embree: flat pieces traverse several times faster than its normal-oriented curves (bench/README.md,
+// "Issue 11: the forest's time").
 void tessellate_ribbons(const CurveSet& curves, int segments, std::vector<Vec3>& positions,
                         std::vector<glm::uvec4>& quads);
 

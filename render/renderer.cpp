@@ -84,7 +84,7 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
   const uint64_t pixels = static_cast<uint64_t>(settings.width) * static_cast<uint64_t>(settings.height);
   uint64_t primitives = 0, curves = 0;
   for (const Prototype& p : scene.prototypes) {
-    primitives += p.triangles.triangles.size() + 2 * p.leaves.size() + p.discs.size();
+    primitives += p.triangles.triangles.size() + p.leaves.size() + p.discs.size();
     curves += p.curves.size();
   }
   const uint64_t copies = scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);

@@ -64,16 +64,18 @@ struct RenderStats {
 // allocated: the film (sum and sum of squares as doubles for each radiance and albedo channel, and a
 // sample count per pixel), the output image (floats: mean, variance and albedo per radiance channel,
 // depth, normal, position, four ids) with its preview, and the BVH (an estimate per unique triangle,
-// leaf quad (two triangles in Embree) and leaf disc, measured on the shipped scenes; per unique grass
-// curve (a 12-triangle strip in Embree); and per Embree instance, native or in the instance array:
-// kNativeInstanceBytes, kArrayInstanceBytes).
+// leaf quad and leaf disc — each one Embree primitive, at most — measured on the shipped scenes; per
+// unique grass curve (a strip of six quads in Embree); and per Embree instance, native or in the
+// instance array: kNativeInstanceBytes, kArrayInstanceBytes).
 struct MemoryEstimate {
   uint64_t film_bytes = 0, image_bytes = 0, bvh_bytes = 0;
   uint64_t total() const { return film_bytes + image_bytes + bvh_bytes; }
 };
-inline constexpr uint64_t kBvhBytesPerPrimitive = 180;
-// Measured by Embree's monitor: 1 830 per blade (golden/scenes/grass_terrain.toml, 400 blades).
-inline constexpr uint64_t kBvhBytesPerCurve = 1900;
+// Measured by Embree's monitor: 199 per leaf quad (bench/scenes/dense_grove.toml); the default
+// forest's 1.07 M triangles (most paired into quads) and 0.79 M leaf quads, 138 each on average.
+inline constexpr uint64_t kBvhBytesPerPrimitive = 220;
+// Measured by Embree's monitor: about 1 200 per blade (golden/scenes/grass_terrain.toml, 400 blades).
+inline constexpr uint64_t kBvhBytesPerCurve = 1300;
 MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& settings);
 
 // The BVH build for a whole render (every chunk, rank and resumed pass of it builds the same, so

@@ -5,7 +5,10 @@
 #include "render_test_scenes.h"
 
 #include "geometry/grass.h"
+#include "geometry/trees/tree_mesher.h"
+#include "geometry/trees/weber_penn/weber_penn.h"
 #include "render/embree_scene.h"
+#include "tests/geometry/trees/wp_test_species.h"
 
 #include <gtest/gtest.h>
 
@@ -323,6 +326,29 @@ TEST(InstanceArray, MemoryEstimateCountsCurvesAndInstances) {
   std::printf("[instance array] estimate %llu bytes, Embree %zu bytes\n", static_cast<unsigned long long>(array),
               embree.stats().bvh_bytes);
   EXPECT_GE(array, embree.stats().bvh_bytes);
+}
+
+// The estimate per primitive covers what Embree reports for leaf quads and paired stem triangles
+// (one quad BVH per prototype): an upper bound, within twice the BVH (a leaf cloud's quads take
+// 199 bytes each, a tree's stems, paired, less).
+TEST(InstanceArray, MemoryEstimateCoversLeavesAndStems) {
+  const RenderSettings settings = test_settings(8, 8, 1);
+  Scene s;
+  Prototype tree;
+  TreeMesh mesh = make_tree_mesh(make_weber_penn_tree(quaking_aspen(), 4));
+  tree.triangles = std::move(mesh.stems);
+  tree.leaves = std::move(mesh.leaves);
+  s.add_prototype(std::move(tree));
+  Prototype cloud;
+  cloud.leaves = make_leaf_cloud(LeafCloudParams{}, 5);
+  s.add_prototype(std::move(cloud));
+  for (uint32_t p = 0; p < 2; ++p) s.instances.push_back({p, glm::translate(Mat4(1.0f), Vec3(10.0f * p, 0, 0))});
+  const uint64_t estimate = estimate_render_memory(s, settings).bvh_bytes;
+  const EmbreeScene embree(s, BvhBuild::kFast);
+  std::printf("[leaves and stems] estimate %llu bytes, Embree %zu bytes\n", static_cast<unsigned long long>(estimate),
+              embree.stats().bvh_bytes);
+  EXPECT_GE(estimate, embree.stats().bvh_bytes);
+  EXPECT_LE(estimate, 2 * embree.stats().bvh_bytes);
 }
 
 }  // namespace
