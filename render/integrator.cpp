@@ -170,182 +170,230 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
 
 SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first,
                                      uint64_t& rays) const {
-  SampledSpectrum L(0.0f), beta(1.0f);
-  float prev_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that produced `ray`; 0 = camera ray
-  // The turbid crown the path is in (docs/fournier_grindal.md): σ_t = G·LAD, 0 outside; crossing a
-  // crown's boundary is not a scattering event and does not count towards the depth.
-  float sigma_t = 0.0f;
-  uint32_t medium_material = 0;
-  int crossings = 0;
-  // With haze: the path's free-flight density per carried wavelength over the hero's (Haze::sample_scattering).
-  SampledSpectrum haze_ratio(1.0f);
-  for (int depth = 0;; ++depth) {
+  PathState path(ray, wl, rng, first);
+  while (path.alive) {
     RayHit hit;
     ++rays;
-    const bool found = embree_.intersect(ray, &hit);
-    const float t_surface = found ? hit.t : std::numeric_limits<float>::infinity();
-    // Free-flight sampling: a collision with a leaf before the next surface scatters the path.
-    const float s_crown = sigma_t > 0.0f ? -std::log(1.0f - rng.uniform()) / sigma_t : t_surface;
-    if (haze_.enabled()) {
-      // The haze's collision competes with the crown's and the surface (independent media: the
-      // nearer event happens; docs/radiometry.md, "Haze").
-      const float s =
-          haze_.sample_scattering(ray.origin, ray.direction, std::min(s_crown, t_surface), wl, rng, beta, haze_ratio);
-      if (s < std::numeric_limits<float>::infinity()) {
-        // The AOVs describe the first surface on the camera ray whether or not the haze scatters
-        // the path before it.
-        if (first && depth == 0 && found && !turbid_solid(hit)) {
-          const SurfaceInteraction si = interaction(ray, hit);
-          const bool front = glm::dot(-ray.direction, si.ng) > 0;
-          record_first_hit(si, Bsdf(lobes_, si.material, wl, front), hit.t, first);
+    const bool found = embree_.intersect(path.ray, &hit);
+    advance(path, found, hit);
+    resolve_shadow(path, rays);
+  }
+  return path.L;
+}
+
+void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
+  // One bounce of the path: the body of radiance()'s loop, with the next-event shadow ray left in
+  // path.shadow for resolve_shadow(). The locals are the path's own (references into `path`).
+  Ray& ray = path.ray;
+  const SampledWavelengths& wl = path.wl;
+  Pcg32& rng = *path.rng;
+  FirstHit* first = path.first;
+  SampledSpectrum& L = path.L;
+  SampledSpectrum& beta = path.beta;
+  float& prev_pdf = path.prev_pdf;
+  float& sigma_t = path.sigma_t;
+  const int depth = path.depth;
+  ShadowQuery& shadow = path.shadow;
+  shadow.kind = ShadowQuery::Kind::kNone;
+  // `continue` of the loop this was: the next bounce (a crown crossing does not count as one).
+  const auto next_bounce = [&path](int increment = 1) { path.depth += increment; };
+  const auto end_path = [&path] { path.alive = false; };
+
+  const float t_surface = found ? hit.t : std::numeric_limits<float>::infinity();
+  // Free-flight sampling: a collision with a leaf before the next surface scatters the path.
+  const float s_crown = sigma_t > 0.0f ? -std::log(1.0f - rng.uniform()) / sigma_t : t_surface;
+  if (haze_.enabled()) {
+    // The haze's collision competes with the crown's and the surface (independent media: the
+    // nearer event happens; docs/radiometry.md, "Haze").
+    const float s = haze_.sample_scattering(ray.origin, ray.direction, std::min(s_crown, t_surface), wl, rng, beta,
+                                            path.haze_ratio);
+    if (s < std::numeric_limits<float>::infinity()) {
+      // The AOVs describe the first surface on the camera ray whether or not the haze scatters
+      // the path before it.
+      if (first && depth == 0 && found && !turbid_solid(hit)) {
+        const SurfaceInteraction si = interaction(ray, hit);
+        const bool front = glm::dot(-ray.direction, si.ng) > 0;
+        record_first_hit(si, Bsdf(lobes_, si.material, wl, front), hit.t, first);
+      }
+      if (depth + 1 > settings_.max_depth) return end_path();
+      const Vec3 p = ray.origin + s * ray.direction;
+      const float g = haze_.desc().g;
+      const Vec2 u_light = uniform2(rng);
+      const float u_select = rng.uniform();
+      if (!environment_.empty()) {
+        const LightSample ls = environment_.sample(u_light, u_select, wl);
+        if (ls.pdf > 0 && !is_black(ls.radiance)) {
+          const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
+          const float w = power_heuristic(ls.pdf, phase);
+          shadow = ShadowQuery{ShadowQuery::Kind::kSky, p, ls.wi, beta, SampledSpectrum(1.0f), ls.radiance,
+                               phase * w / ls.pdf};
         }
-        if (depth + 1 > settings_.max_depth) break;
-        const Vec3 p = ray.origin + s * ray.direction;
-        const float g = haze_.desc().g;
-        const Vec2 u_light = uniform2(rng);
-        const float u_select = rng.uniform();
-        if (!environment_.empty()) {
-          const LightSample ls = environment_.sample(u_light, u_select, wl);
-          if (ls.pdf > 0 && !is_black(ls.radiance) && ++rays &&
-              !embree_.occluded(p, ls.wi, std::numeric_limits<float>::infinity())) {
-            const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
-            const float w = power_heuristic(ls.pdf, phase);
-            L += beta * ls.radiance * sky_transmittance(p, ls.wi, wl, rays) * (phase * w / ls.pdf);
+      }
+      const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
+      prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
+      ray = Ray{p, wi};
+      if (depth + 1 >= settings_.rr_start_depth) {
+        const float q = std::max(0.05f, 1.0f - max_component(beta));
+        if (rng.uniform() < q) return end_path();
+        beta /= 1.0f - q;
+      }
+      if (is_black(beta)) return end_path();
+      return next_bounce();
+    }
+  }
+  if (sigma_t > 0.0f) {
+    const float s = s_crown;
+    if (s < t_surface) {
+      if (depth + 1 > settings_.max_depth) return end_path();
+      const Vec3 p = ray.origin + s * ray.direction;
+      const Bsdf leaf(lobes_, path.medium_material, wl, true);
+      const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
+      const Vec2 u_light = uniform2(rng);
+      const float u_select = rng.uniform();
+      if (!environment_.empty()) {
+        const LightSample ls = environment_.sample(u_light, u_select, wl);
+        if (ls.pdf > 0 && !is_black(ls.radiance)) {
+          const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
+          if (!is_black(f)) {
+            const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
+            shadow = ShadowQuery{haze_.enabled() ? ShadowQuery::Kind::kSkyLeaf : ShadowQuery::Kind::kCrownLeaf,
+                                 p,
+                                 ls.wi,
+                                 beta,
+                                 f,
+                                 ls.radiance,
+                                 w,
+                                 ls.pdf};
           }
         }
-        const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
-        prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
-        ray = Ray{p, wi};
-        if (depth + 1 >= settings_.rr_start_depth) {
-          const float q = std::max(0.05f, 1.0f - max_component(beta));
-          if (rng.uniform() < q) break;
-          beta /= 1.0f - q;
-        }
-        if (is_black(beta)) break;
-        continue;
       }
-    }
-    if (sigma_t > 0.0f) {
-      const float s = s_crown;
-      if (s < t_surface) {
-        if (depth + 1 > settings_.max_depth) break;
-        const Vec3 p = ray.origin + s * ray.direction;
-        const Bsdf leaf(lobes_, medium_material, wl, true);
-        const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
-        const Vec2 u_light = uniform2(rng);
-        const float u_select = rng.uniform();
-        if (!environment_.empty()) {
-          const LightSample ls = environment_.sample(u_light, u_select, wl);
-          if (ls.pdf > 0 && !is_black(ls.radiance)) {
-            const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
-            if (!is_black(f) && ++rays && !embree_.occluded(p, ls.wi, std::numeric_limits<float>::infinity())) {
-              const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
-              if (haze_.enabled())
-                L += beta * f * ls.radiance * sky_transmittance(p, ls.wi, wl, rays) * (w / ls.pdf);
-              else
-                L += beta * f * ls.radiance * (medium_transmittance(p, ls.wi, rays) * w / ls.pdf);
-            }
-          }
-        }
-        const Vec2 u_normal = uniform2(rng), u_direction = uniform2(rng);
-        const float u_lobe = rng.uniform();
-        LeafPhaseSample ps;
-        if (!sample_leaf_phase(phase, ray.direction, u_normal, u_direction, u_lobe, &ps)) break;
-        beta *= ps.weight;
-        prev_pdf = ps.pdf;
-        ray = Ray{p, ps.direction};
-        if (depth + 1 >= settings_.rr_start_depth) {
-          const float q = std::max(0.05f, 1.0f - max_component(beta));
-          if (rng.uniform() < q) break;
-          beta /= 1.0f - q;
-        }
-        if (is_black(beta)) break;
-        continue;
+      const Vec2 u_normal = uniform2(rng), u_direction = uniform2(rng);
+      const float u_lobe = rng.uniform();
+      LeafPhaseSample ps;
+      if (!sample_leaf_phase(phase, ray.direction, u_normal, u_direction, u_lobe, &ps)) return end_path();
+      beta *= ps.weight;
+      prev_pdf = ps.pdf;
+      ray = Ray{p, ps.direction};
+      if (depth + 1 >= settings_.rr_start_depth) {
+        const float q = std::max(0.05f, 1.0f - max_component(beta));
+        if (rng.uniform() < q) return end_path();
+        beta /= 1.0f - q;
       }
+      if (is_black(beta)) return end_path();
+      return next_bounce();
     }
-    if (found) {
-      if (const HalfSpaceSolid* medium = turbid_solid(hit)) {
-        const Vec3 n = glm::normalize(normal_from_object(scene_.instances[hit.instance]) * hit.normal);
-        const bool entering = glm::dot(ray.direction, n) < 0.0f;
-        if (entering) {
-          const Prototype& proto = scene_.prototypes[scene_.instances[hit.instance].prototype];
-          sigma_t = kSphericalG * medium->leaf_area_density;
-          medium_material = proto.solid_palettes[hit.primitive].front();
-        } else {
-          sigma_t = 0.0f;
-        }
-        ray = Ray{offset_ray_origin(ray.origin + hit.t * ray.direction, entering ? -n : n), ray.direction};
-        if (++crossings > 1024) break;
-        --depth;
-        continue;
-      }
-    }
-    if (!found) {
-      const SampledSpectrum le = environment_.eval(ray.direction, wl);
-      if (depth == 0 || faults_.mis_weight_one) {
-        L += beta * le;
+  }
+  if (found) {
+    if (const HalfSpaceSolid* medium = turbid_solid(hit)) {
+      const Vec3 n = glm::normalize(normal_from_object(scene_.instances[hit.instance]) * hit.normal);
+      const bool entering = glm::dot(ray.direction, n) < 0.0f;
+      if (entering) {
+        const Prototype& proto = scene_.prototypes[scene_.instances[hit.instance].prototype];
+        sigma_t = kSphericalG * medium->leaf_area_density;
+        path.medium_material = proto.solid_palettes[hit.primitive].front();
       } else {
-        L += beta * le * power_heuristic(prev_pdf, environment_.pdf(ray.direction));
+        sigma_t = 0.0f;
       }
+      ray = Ray{offset_ray_origin(ray.origin + hit.t * ray.direction, entering ? -n : n), ray.direction};
+      if (++path.crossings > 1024) return end_path();
+      return next_bounce(0);
+    }
+  }
+  if (!found) {
+    const SampledSpectrum le = environment_.eval(ray.direction, wl);
+    if (depth == 0 || faults_.mis_weight_one) {
+      L += beta * le;
+    } else {
+      L += beta * le * power_heuristic(prev_pdf, environment_.pdf(ray.direction));
+    }
+    return end_path();
+  }
+  const SurfaceInteraction si = interaction(ray, hit);
+  const Vec3 wo = -ray.direction;
+  const bool front = glm::dot(wo, si.ng) > 0;
+  const Vec3 ng = front ? si.ng : -si.ng;  // geometric normal on the viewer's side
+  const Vec3 ns = front ? si.ns : -si.ns;
+  const Frame frame = Frame::from_z(ns);
+  const Bsdf bsdf(lobes_, si.material, wl, front);
+  if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
+  if (depth + 1 > settings_.max_depth) return end_path();
+  const Vec3 wo_local = frame.to_local(wo);
+
+  // Next-event estimation towards the sun + sky mixture.
+  const Vec2 u_light = uniform2(rng);
+  const float u_select = rng.uniform();
+  if (!environment_.empty()) {
+    const LightSample ls = environment_.sample(u_light, u_select, wl);
+    if (ls.pdf > 0 && !is_black(ls.radiance)) {
+      const Vec3 wi_local = frame.to_local(ls.wi);
+      const float cos_g = glm::dot(ls.wi, ng);
+      const bool transmits = cos_g < 0;
+      // The geometric and shading sides must agree, or light would leak through the surface.
+      if ((wi_local.z > 0) == !transmits && cos_g != 0) {
+        const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
+        if (!is_black(f)) {
+          const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
+          shadow = ShadowQuery{ShadowQuery::Kind::kSurface,
+                               offset_ray_origin(si.p, transmits ? -ng : ng),
+                               ls.wi,
+                               beta * f * std::abs(wi_local.z),
+                               SampledSpectrum(1.0f),
+                               ls.radiance,
+                               w,
+                               ls.pdf};
+        }
+      }
+    }
+  }
+
+  // Continue the path by sampling the BSDF.
+  const Vec2 u_bsdf = uniform2(rng);
+  const float u_lobe = rng.uniform();
+  BsdfSample bs;
+  if (!bsdf.sample(wo_local, u_bsdf, u_lobe, &bs)) return end_path();
+  const Vec3 wi = frame.to_world(bs.wi);
+  const float cos_g = glm::dot(wi, ng);
+  if (cos_g == 0 || (cos_g < 0) != bs.transmitted) return end_path();  // shading/geometry disagreement
+  beta *= bs.value;
+  prev_pdf = bs.pdf;
+  ray = Ray{offset_ray_origin(si.p, bs.transmitted ? -ng : ng), wi};
+
+  if (depth + 1 >= settings_.rr_start_depth) {
+    const float q = std::max(0.05f, 1.0f - max_component(beta));
+    if (rng.uniform() < q) return end_path();
+    beta /= 1.0f - q;
+  }
+  if (is_black(beta)) return end_path();
+  next_bounce();
+}
+
+void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
+  // The expressions radiance() had in line, term by term in the same order (same bits).
+  const ShadowQuery& q = path.shadow;
+  if (q.kind == ShadowQuery::Kind::kNone) return;
+  ++rays;
+  if (embree_.occluded(q.origin, q.direction, std::numeric_limits<float>::infinity())) return;
+  switch (q.kind) {
+    case ShadowQuery::Kind::kNone:
+      break;
+    case ShadowQuery::Kind::kSky:  // a haze collision: a = β, c = L_e, x = phase · w / pdf
+      path.L += q.a * q.c * sky_transmittance(q.origin, q.direction, path.wl, rays) * q.x;
+      break;
+    case ShadowQuery::Kind::kSkyLeaf:  // a crown collision in haze: a = β, b = f, x = w, y = pdf
+      path.L += q.a * q.b * q.c * sky_transmittance(q.origin, q.direction, path.wl, rays) * (q.x / q.y);
+      break;
+    case ShadowQuery::Kind::kCrownLeaf:  // a crown collision: a = β, b = f, x = w, y = pdf
+      path.L += q.a * q.b * q.c * (medium_transmittance(q.origin, q.direction, rays) * q.x / q.y);
+      break;
+    case ShadowQuery::Kind::kSurface: {  // a surface: a = β · f · |cos θ|, x = w, y = pdf
+      const float transmittance = has_media_ ? medium_transmittance(q.origin, q.direction, rays) : 1.0f;
+      SampledSpectrum contribution = q.a * q.c * (q.x * transmittance / q.y);
+      if (haze_.enabled())
+        contribution *= haze_.transmittance(q.origin, q.direction, std::numeric_limits<float>::infinity(), path.wl);
+      path.L += contribution;
       break;
     }
-    const SurfaceInteraction si = interaction(ray, hit);
-    const Vec3 wo = -ray.direction;
-    const bool front = glm::dot(wo, si.ng) > 0;
-    const Vec3 ng = front ? si.ng : -si.ng;  // geometric normal on the viewer's side
-    const Vec3 ns = front ? si.ns : -si.ns;
-    const Frame frame = Frame::from_z(ns);
-    const Bsdf bsdf(lobes_, si.material, wl, front);
-    if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
-    if (depth + 1 > settings_.max_depth) break;
-    const Vec3 wo_local = frame.to_local(wo);
-
-    // Next-event estimation towards the sun + sky mixture.
-    const Vec2 u_light = uniform2(rng);
-    const float u_select = rng.uniform();
-    if (!environment_.empty()) {
-      const LightSample ls = environment_.sample(u_light, u_select, wl);
-      if (ls.pdf > 0 && !is_black(ls.radiance)) {
-        const Vec3 wi_local = frame.to_local(ls.wi);
-        const float cos_g = glm::dot(ls.wi, ng);
-        const bool transmits = cos_g < 0;
-        // The geometric and shading sides must agree, or light would leak through the surface.
-        if ((wi_local.z > 0) == !transmits && cos_g != 0) {
-          const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
-          const Vec3 shadow_origin = offset_ray_origin(si.p, transmits ? -ng : ng);
-          if (!is_black(f) && ++rays &&
-              !embree_.occluded(shadow_origin, ls.wi, std::numeric_limits<float>::infinity())) {
-            const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
-            const float transmittance = has_media_ ? medium_transmittance(shadow_origin, ls.wi, rays) : 1.0f;
-            SampledSpectrum contribution = beta * f * std::abs(wi_local.z) * ls.radiance * (w * transmittance / ls.pdf);
-            if (haze_.enabled())
-              contribution *= haze_.transmittance(shadow_origin, ls.wi, std::numeric_limits<float>::infinity(), wl);
-            L += contribution;
-          }
-        }
-      }
-    }
-
-    // Continue the path by sampling the BSDF.
-    const Vec2 u_bsdf = uniform2(rng);
-    const float u_lobe = rng.uniform();
-    BsdfSample bs;
-    if (!bsdf.sample(wo_local, u_bsdf, u_lobe, &bs)) break;
-    const Vec3 wi = frame.to_world(bs.wi);
-    const float cos_g = glm::dot(wi, ng);
-    if (cos_g == 0 || (cos_g < 0) != bs.transmitted) break;  // shading/geometry disagreement
-    beta *= bs.value;
-    prev_pdf = bs.pdf;
-    ray = Ray{offset_ray_origin(si.p, bs.transmitted ? -ng : ng), wi};
-
-    if (depth + 1 >= settings_.rr_start_depth) {
-      const float q = std::max(0.05f, 1.0f - max_component(beta));
-      if (rng.uniform() < q) break;
-      beta /= 1.0f - q;
-    }
-    if (is_black(beta)) break;
   }
-  return L;
 }
 
 }  // namespace sylva

@@ -49,6 +49,48 @@ struct FirstHit {
   SampledSpectrum albedo{0.0f};
 };
 
+// A next-event shadow ray waiting for its visibility test, and what its light adds when the ray
+// is unoccluded (Integrator::resolve_shadow): the factors a · b · c, the transmittance along the
+// ray and the scalars x, y, combined per kind as radiance() always combined them.
+struct ShadowQuery {
+  enum class Kind : uint8_t {
+    kNone,
+    kSky,        // from a haze collision: a = β, c = L_e, x = phase · w / pdf
+    kSkyLeaf,    // from a crown collision in haze: a = β, b = f, c = L_e, x = w, y = pdf
+    kCrownLeaf,  // from a crown collision: a = β, b = f, c = L_e, x = w, y = pdf
+    kSurface,    // from a surface: a = β · f · |cos θ|, c = L_e, x = w, y = pdf
+  };
+  Kind kind = Kind::kNone;
+  Vec3 origin{0.0f}, direction{0.0f};
+  SampledSpectrum a{0.0f}, b{0.0f}, c{0.0f};
+  float x = 0, y = 0;
+};
+
+// One path in flight: what radiance() keeps from bounce to bounce. A caller may hold several and
+// trace their rays together (Renderer: a pixel's samples), each path giving the same bits as
+// radiance() would.
+struct PathState {
+  PathState(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit)
+      : ray(camera_ray), wl(wavelengths), rng(&random), first(first_hit) {}
+
+  Ray ray;  // the next ray to trace
+  SampledWavelengths wl;
+  Pcg32* rng;
+  FirstHit* first;  // optional
+  SampledSpectrum L{0.0f}, beta{1.0f};
+  // With haze: the path's free-flight density per carried wavelength over the hero's (Haze::sample_scattering).
+  SampledSpectrum haze_ratio{1.0f};
+  float prev_pdf = 0.0f;  // solid-angle pdf of the BSDF sample that produced `ray`; 0 = camera ray
+  // The turbid crown the path is in (docs/fournier_grindal.md): σ_t = G·LAD, 0 outside; crossing a
+  // crown's boundary is not a scattering event and does not count towards the depth.
+  float sigma_t = 0.0f;
+  uint32_t medium_material = 0;
+  int crossings = 0;
+  int depth = 0;
+  bool alive = true;
+  ShadowQuery shadow;  // this bounce's next-event shadow ray, if any
+};
+
 class Integrator {
  public:
   Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
@@ -60,6 +102,13 @@ class Integrator {
   // Radiance along `ray` for the carried wavelengths. `first` (optional) receives first-hit data;
   // `rays` is incremented by the number of rays traced (closest-hit and shadow).
   SampledSpectrum radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first, uint64_t& rays) const;
+
+  // radiance() a bounce at a time, for callers that trace many paths' rays together: trace
+  // path.ray (counting it in `rays`), advance() with its hit, resolve_shadow(), until !path.alive;
+  // path.L is then the radiance. advance() leaves the bounce's shadow ray in path.shadow and the
+  // next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
+  void advance(PathState& path, bool found, const RayHit& hit) const;
+  void resolve_shadow(PathState& path, uint64_t& rays) const;
 
   // The surface at a hit (world space), from the prototype's mesh data.
   SurfaceInteraction interaction(const Ray& ray, const RayHit& hit) const;

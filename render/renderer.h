@@ -134,6 +134,9 @@ class Renderer {
            const TransportFaults& faults);
   void check_film(const Film& film) const;
   void render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample, uint64_t& rays) const;
+  // One path's radiance and first hit, weighted into the channels and added to pixel (x, y).
+  void add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L,
+                  const FirstHit& first) const;
 
   const Scene& scene_;
   RenderSettings settings_;

@@ -1,13 +1,19 @@
 // Half-space solids through Embree (render/embree_scene.cpp user geometry): instanced closest hits
 // and occlusion agree with intersect_solid in object space, for exact and displaced crowns.
 
+#include "core/band.h"
 #include "core/rng.h"
+#include "geometry/primitives.h"
 #include "geometry/trees/fournier_grindal/fournier_grindal.h"
 #include "render/embree_scene.h"
 #include "render/integrator.h"
+#include "render/materials/diffuse.h"
+#include "render/materials/leaf.h"
 #include "render/materials/leaf_medium.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+
+#include <bit>
 
 #include <gtest/gtest.h>
 
@@ -162,4 +168,97 @@ TEST(TurbidCrown, TransmittanceThroughASmallScaledCrown) {
   }
 }
 
+}  // namespace sylva
+
+namespace sylva {
+namespace {
+
+// Every path of `origins` (towards the scene's centre, one per origin) by radiance(), and the same
+// paths a batch of eight at a time in lock-step as Renderer::render_pixel runs them: each path's
+// radiance and the ray count must be the same bits.
+void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& origins) {
+  SunDesc sun;
+  sun.elevation_deg = 35;
+  SkyDesc sky;
+  const Environment environment(sun, sky);
+  const EmbreeScene embree(scene);
+  const Integrator integrator(scene, embree, environment, IntegratorSettings{});
+  const WavelengthSampler sampler({resolve_band("rgb"), resolve_band("nir")});
+  constexpr int kBatch = 8;
+  int nonzero = 0;
+  for (size_t start = 0; start < origins.size(); start += kBatch) {
+    const int n = static_cast<int>(std::min<size_t>(kBatch, origins.size() - start));
+    std::vector<Pcg32> rngs;
+    std::vector<Ray> rays_in;
+    std::vector<SampledWavelengths> wls;
+    for (int k = 0; k < n; ++k) {
+      rngs.emplace_back(1000 + start + static_cast<size_t>(k));
+      wls.push_back(sampler.sample(rngs.back().uniform()));
+      const Vec3 target(rngs.back().symmetric() * 3.0f, rngs.back().symmetric() * 3.0f, 0.5f);
+      rays_in.push_back(Ray{origins[start + static_cast<size_t>(k)],
+                            glm::normalize(target - origins[start + static_cast<size_t>(k)])});
+    }
+    std::vector<Pcg32> alone_rngs = rngs;
+    std::vector<FirstHit> firsts(static_cast<size_t>(n)), alone_firsts(static_cast<size_t>(n));
+    std::vector<PathState> paths;
+    for (int k = 0; k < n; ++k)
+      paths.emplace_back(rays_in[size_t(k)], wls[size_t(k)], rngs[size_t(k)], &firsts[size_t(k)]);
+    uint64_t batched_rays = 0;
+    for (bool any = true; any;) {
+      std::vector<RayHit> hits(static_cast<size_t>(n));
+      std::vector<char> found(static_cast<size_t>(n), 0);
+      for (int k = 0; k < n; ++k)
+        if (paths[size_t(k)].alive) {
+          ++batched_rays;
+          found[size_t(k)] = embree.intersect(paths[size_t(k)].ray, &hits[size_t(k)]);
+        }
+      for (int k = 0; k < n; ++k)
+        if (paths[size_t(k)].alive) integrator.advance(paths[size_t(k)], found[size_t(k)] != 0, hits[size_t(k)]);
+      any = false;
+      for (PathState& path : paths) {
+        integrator.resolve_shadow(path, batched_rays);
+        path.shadow.kind = ShadowQuery::Kind::kNone;
+        any = any || path.alive;
+      }
+    }
+    uint64_t alone_rays = 0;
+    for (int k = 0; k < n; ++k) {
+      const SampledSpectrum alone = integrator.radiance(rays_in[size_t(k)], wls[size_t(k)], alone_rngs[size_t(k)],
+                                                        &alone_firsts[size_t(k)], alone_rays);
+      for (int i = 0; i < kLambdaCount; ++i) {
+        EXPECT_EQ(std::bit_cast<uint32_t>(alone[i]), std::bit_cast<uint32_t>(paths[size_t(k)].L[i]))
+            << "path " << start + size_t(k) << " wavelength " << i;
+        EXPECT_EQ(std::bit_cast<uint32_t>(alone_firsts[size_t(k)].albedo[i]),
+                  std::bit_cast<uint32_t>(firsts[size_t(k)].albedo[i]));
+      }
+      nonzero += max_component(alone) > 0 ? 1 : 0;
+      EXPECT_EQ(alone_rngs[size_t(k)].next_u32(), rngs[size_t(k)].next_u32()) << "the same random numbers, in order";
+    }
+    EXPECT_EQ(alone_rays, batched_rays);
+  }
+  EXPECT_GT(nonzero, static_cast<int>(origins.size()) / 2) << "the paths must gather light";
+}
+
+TEST(PathState, BatchedBouncesGiveRadianceBits) {
+  // Turbid crowns over a leaf-white floor, with and without haze: surface, crown and haze shadow
+  // rays (every ShadowQuery kind), crown crossings, escapes and roulette.
+  Scene scene =
+      turbid_cubes({{1.5f, Mat4(1.0f)}, {0.6f, glm::scale(glm::translate(Mat4(1.0f), Vec3(4, 0, 0)), Vec3(2.0f))}});
+  scene.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.45f), DenseSpectrum::constant(0.5f)));
+  Prototype floor;
+  floor.triangles = make_plane(40.0f, 40.0f);
+  floor.triangle_material = scene.add_material("white", make_diffuse("white", DenseSpectrum::constant(0.8f)));
+  scene.instances.push_back({scene.add_prototype(floor), glm::translate(Mat4(1.0f), Vec3(0, 0, -2)), 0});
+  Pcg32 rng(77);
+  std::vector<Vec3> origins;
+  for (int i = 0; i < 60; ++i)
+    origins.emplace_back(rng.symmetric() * 8.0f, rng.symmetric() * 8.0f, 6.0f + 4.0f * rng.uniform());
+  expect_batched_paths_match(scene, origins);
+  scene.haze.enabled = true;
+  scene.haze.extinction_550 = 0.08f;
+  scene.haze.top = 12.0f;
+  expect_batched_paths_match(scene, origins);
+}
+
+}  // namespace
 }  // namespace sylva
