@@ -198,6 +198,16 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   // `continue` of the loop this was: the next bounce (a crown crossing does not count as one).
   const auto next_bounce = [&path](int increment = 1) { path.depth += increment; };
   const auto end_path = [&path] { path.alive = false; };
+  // Russian roulette from rr_start_depth (survivors weighted 1/(1 − q)), then the next bounce.
+  const auto roulette_then_next_bounce = [&] {
+    if (depth + 1 >= settings_.rr_start_depth) {
+      const float q = std::max(0.05f, 1.0f - max_component(beta));
+      if (rng.uniform() < q) return end_path();
+      beta /= 1.0f - q;
+    }
+    if (is_black(beta)) return end_path();
+    next_bounce();
+  };
 
   const float t_surface = found ? hit.t : std::numeric_limits<float>::infinity();
   // Free-flight sampling: a collision with a leaf before the next surface scatters the path.
@@ -232,13 +242,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
       const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
       prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
       ray = Ray{p, wi};
-      if (depth + 1 >= settings_.rr_start_depth) {
-        const float q = std::max(0.05f, 1.0f - max_component(beta));
-        if (rng.uniform() < q) return end_path();
-        beta /= 1.0f - q;
-      }
-      if (is_black(beta)) return end_path();
-      return next_bounce();
+      return roulette_then_next_bounce();
     }
   }
   if (sigma_t > 0.0f) {
@@ -274,13 +278,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
       beta *= ps.weight;
       prev_pdf = ps.pdf;
       ray = Ray{p, ps.direction};
-      if (depth + 1 >= settings_.rr_start_depth) {
-        const float q = std::max(0.05f, 1.0f - max_component(beta));
-        if (rng.uniform() < q) return end_path();
-        beta /= 1.0f - q;
-      }
-      if (is_black(beta)) return end_path();
-      return next_bounce();
+      return roulette_then_next_bounce();
     }
   }
   if (found) {
@@ -358,13 +356,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   prev_pdf = bs.pdf;
   ray = Ray{offset_ray_origin(si.p, bs.transmitted ? -ng : ng), wi};
 
-  if (depth + 1 >= settings_.rr_start_depth) {
-    const float q = std::max(0.05f, 1.0f - max_component(beta));
-    if (rng.uniform() < q) return end_path();
-    beta /= 1.0f - q;
-  }
-  if (is_black(beta)) return end_path();
-  next_bounce();
+  return roulette_then_next_bounce();
 }
 
 void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
