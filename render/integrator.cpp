@@ -1,7 +1,10 @@
 #include "render/integrator.h"
 
+#include "core/error.h"
 #include "render/materials/leaf_medium.h"
 #include "render/materials/material.h"
+
+#include <fmt/core.h>
 
 #include <bit>
 
@@ -171,14 +174,30 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
 SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first,
                                      uint64_t& rays) const {
   PathState path(ray, wl, rng, first);
-  while (path.alive) {
-    RayHit hit;
-    ++rays;
-    const bool found = embree_.intersect(path.ray, &hit);
-    advance(path, found, hit);
-    resolve_shadow(path, rays);
-  }
+  trace_paths({&path, 1}, rays);
   return path.L;
+}
+
+void Integrator::trace_paths(std::span<PathState> paths, uint64_t& rays) const {
+  if (paths.size() > static_cast<size_t>(kMaxPaths))
+    throw Error(fmt::format("trace_paths: {} paths, at most {} at a time", paths.size(), kMaxPaths));
+  RayHit hits[kMaxPaths];
+  bool found[kMaxPaths];
+  const size_t n = paths.size();
+  for (bool any = n > 0; any;) {
+    for (size_t k = 0; k < n; ++k) {
+      if (!paths[k].alive) continue;
+      ++rays;
+      found[k] = embree_.intersect(paths[k].ray, &hits[k]);
+    }
+    for (size_t k = 0; k < n; ++k)
+      if (paths[k].alive) advance(paths[k], found[k], hits[k]);
+    any = false;
+    for (PathState& path : paths) {
+      resolve_shadow(path, rays);
+      any = any || path.alive;
+    }
+  }
 }
 
 void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
@@ -361,8 +380,9 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
 
 void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
   // The expressions radiance() had in line, term by term in the same order (same bits).
-  const ShadowQuery& q = path.shadow;
+  const ShadowQuery q = path.shadow;
   if (q.kind == ShadowQuery::Kind::kNone) return;
+  path.shadow.kind = ShadowQuery::Kind::kNone;
   ++rays;
   if (embree_.occluded(q.origin, q.direction, std::numeric_limits<float>::infinity())) return;
   switch (q.kind) {

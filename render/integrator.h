@@ -12,6 +12,7 @@
 #include "render/scene.h"
 #include "render/testing/faults.h"
 
+#include <span>
 #include <vector>
 
 namespace sylva {
@@ -70,13 +71,14 @@ struct ShadowQuery {
 // trace their rays together (Renderer: a pixel's samples), each path giving the same bits as
 // radiance() would.
 struct PathState {
+  PathState() = default;
   PathState(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit)
       : ray(camera_ray), wl(wavelengths), rng(&random), first(first_hit) {}
 
   Ray ray;  // the next ray to trace
   SampledWavelengths wl;
-  Pcg32* rng;
-  FirstHit* first;  // optional
+  Pcg32* rng = nullptr;
+  FirstHit* first = nullptr;  // optional
   SampledSpectrum L{0.0f}, beta{1.0f};
   // With haze: the path's free-flight density per carried wavelength over the hero's (Haze::sample_scattering).
   SampledSpectrum haze_ratio{1.0f};
@@ -103,10 +105,14 @@ class Integrator {
   // `rays` is incremented by the number of rays traced (closest-hit and shadow).
   SampledSpectrum radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first, uint64_t& rays) const;
 
-  // radiance() a bounce at a time, for callers that trace many paths' rays together: trace
-  // path.ray (counting it in `rays`), advance() with its hit, resolve_shadow(), until !path.alive;
-  // path.L is then the radiance. advance() leaves the bounce's shadow ray in path.shadow and the
-  // next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
+  // Traces paths.size() ≤ kMaxPaths paths to their ends in lock-step, bounce by bounce: the
+  // closest-hit rays of all, then their shading, then their shadow rays, so each stage's code stays
+  // in the instruction cache (Renderer: a pixel's samples; bench/README.md). Each path's L, random
+  // numbers and rays are those it gives alone; radiance() is one path through the same stages.
+  static constexpr int kMaxPaths = 16;
+  void trace_paths(std::span<PathState> paths, uint64_t& rays) const;
+  // The stages: advance() shades path.ray's hit, leaving the bounce's shadow ray in path.shadow and
+  // the next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
   void advance(PathState& path, bool found, const RayHit& hit) const;
   void resolve_shadow(PathState& path, uint64_t& rays) const;
 

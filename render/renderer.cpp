@@ -11,7 +11,6 @@
 #include <fmt/core.h>
 
 #include <chrono>
-#include <optional>
 
 #include <sys/resource.h>
 
@@ -113,16 +112,13 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
                             uint64_t& rays) const {
   const uint64_t pixel_id =
       static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
-  // The pixel's paths a batch at a time, bounce by bounce: each stage runs over the batch before the
-  // next, so Embree's traversal and the shading code stay in the instruction cache, and the camera
-  // rays and first shadow rays of one pixel, nearly alike, follow each other through the same BVH
-  // nodes (bench/README.md). Every path gives the bits it would give alone.
+  // The pixel's paths a batch at a time (Integrator::trace_paths): a pixel's camera rays and first
+  // shadow rays, nearly alike, follow each other through the same BVH nodes.
   constexpr int kBatch = 8;
+  static_assert(kBatch <= Integrator::kMaxPaths);
   Pcg32 rngs[kBatch];
   FirstHit firsts[kBatch];
-  std::optional<PathState> paths[kBatch];
-  RayHit hits[kBatch];
-  bool found[kBatch];
+  PathState paths[kBatch];
   for (uint32_t batch = first_sample; batch < end_sample; batch += kBatch) {
     const int n = static_cast<int>(std::min<uint32_t>(kBatch, end_sample - batch));
     for (int k = 0; k < n; ++k) {
@@ -132,24 +128,10 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
       const Vec2 lens = uniform2(rng);
       const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
       firsts[k] = FirstHit{};
-      paths[k].emplace(camera_.generate_ray(film_pos, lens), wl, rng, &firsts[k]);
+      paths[k] = PathState(camera_.generate_ray(film_pos, lens), wl, rng, &firsts[k]);
     }
-    for (int alive = n; alive > 0;) {
-      for (int k = 0; k < n; ++k) {
-        if (!paths[k]->alive) continue;
-        ++rays;
-        found[k] = embree_.intersect(paths[k]->ray, &hits[k]);
-      }
-      for (int k = 0; k < n; ++k)
-        if (paths[k]->alive) integrator_->advance(*paths[k], found[k], hits[k]);
-      alive = 0;
-      for (int k = 0; k < n; ++k) {
-        integrator_->resolve_shadow(*paths[k], rays);
-        paths[k]->shadow.kind = ShadowQuery::Kind::kNone;
-        alive += paths[k]->alive ? 1 : 0;
-      }
-    }
-    for (int k = 0; k < n; ++k) add_sample(film, x, y, paths[k]->wl, paths[k]->L, firsts[k]);
+    integrator_->trace_paths({paths, static_cast<size_t>(n)}, rays);
+    for (int k = 0; k < n; ++k) add_sample(film, x, y, paths[k].wl, paths[k].L, firsts[k]);
   }
 }
 

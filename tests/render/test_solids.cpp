@@ -2,6 +2,7 @@
 // and occlusion agree with intersect_solid in object space, for exact and displaced crowns.
 
 #include "core/band.h"
+#include "core/error.h"
 #include "core/rng.h"
 #include "geometry/primitives.h"
 #include "geometry/trees/fournier_grindal/fournier_grindal.h"
@@ -174,8 +175,8 @@ namespace sylva {
 namespace {
 
 // Every path of `origins` (towards the scene's centre, one per origin) by radiance(), and the same
-// paths a batch of eight at a time in lock-step as Renderer::render_pixel runs them: each path's
-// radiance and the ray count must be the same bits.
+// paths eight at a time through Integrator::trace_paths, as Renderer::render_pixel runs them: each
+// path's radiance, random numbers and ray count must be the same.
 void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& origins) {
   SunDesc sun;
   sun.elevation_deg = 35;
@@ -204,23 +205,7 @@ void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& ori
     for (int k = 0; k < n; ++k)
       paths.emplace_back(rays_in[size_t(k)], wls[size_t(k)], rngs[size_t(k)], &firsts[size_t(k)]);
     uint64_t batched_rays = 0;
-    for (bool any = true; any;) {
-      std::vector<RayHit> hits(static_cast<size_t>(n));
-      std::vector<char> found(static_cast<size_t>(n), 0);
-      for (int k = 0; k < n; ++k)
-        if (paths[size_t(k)].alive) {
-          ++batched_rays;
-          found[size_t(k)] = embree.intersect(paths[size_t(k)].ray, &hits[size_t(k)]);
-        }
-      for (int k = 0; k < n; ++k)
-        if (paths[size_t(k)].alive) integrator.advance(paths[size_t(k)], found[size_t(k)] != 0, hits[size_t(k)]);
-      any = false;
-      for (PathState& path : paths) {
-        integrator.resolve_shadow(path, batched_rays);
-        path.shadow.kind = ShadowQuery::Kind::kNone;
-        any = any || path.alive;
-      }
-    }
+    integrator.trace_paths(paths, batched_rays);
     uint64_t alone_rays = 0;
     for (int k = 0; k < n; ++k) {
       const SampledSpectrum alone = integrator.radiance(rays_in[size_t(k)], wls[size_t(k)], alone_rngs[size_t(k)],
@@ -237,6 +222,12 @@ void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& ori
     EXPECT_EQ(alone_rays, batched_rays);
   }
   EXPECT_GT(nonzero, static_cast<int>(origins.size()) / 2) << "the paths must gather light";
+  // More paths than the batch holds: an error, not an overflow.
+  Pcg32 rng(5);
+  std::vector<PathState> too_many(Integrator::kMaxPaths + 1,
+                                  PathState(Ray{origins[0], Vec3(0, 0, -1)}, sampler.sample(0.5f), rng, nullptr));
+  uint64_t rays = 0;
+  EXPECT_THROW(integrator.trace_paths(too_many, rays), Error);
 }
 
 TEST(PathState, BatchedBouncesGiveRadianceBits) {
