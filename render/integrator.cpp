@@ -380,12 +380,13 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
 
 void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
   // The expressions radiance() had in line, term by term in the same order (same bits).
-  const ShadowQuery q = path.shadow;
-  if (q.kind == ShadowQuery::Kind::kNone) return;
-  path.shadow.kind = ShadowQuery::Kind::kNone;
+  const ShadowQuery& q = path.shadow;
+  const ShadowQuery::Kind kind = q.kind;
+  if (kind == ShadowQuery::Kind::kNone) return;
+  path.shadow.kind = ShadowQuery::Kind::kNone;  // resolved; the rest of the query is read below
   ++rays;
   if (embree_.occluded(q.origin, q.direction, std::numeric_limits<float>::infinity())) return;
-  switch (q.kind) {
+  switch (kind) {
     case ShadowQuery::Kind::kNone:
       break;
     case ShadowQuery::Kind::kSky:  // a haze collision: a = β, c = L_e, x = phase · w / pdf

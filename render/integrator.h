@@ -111,10 +111,6 @@ class Integrator {
   // numbers and rays are those it gives alone; radiance() is one path through the same stages.
   static constexpr int kMaxPaths = 16;
   void trace_paths(std::span<PathState> paths, uint64_t& rays) const;
-  // The stages: advance() shades path.ray's hit, leaving the bounce's shadow ray in path.shadow and
-  // the next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
-  void advance(PathState& path, bool found, const RayHit& hit) const;
-  void resolve_shadow(PathState& path, uint64_t& rays) const;
 
   // The surface at a hit (world space), from the prototype's mesh data.
   SurfaceInteraction interaction(const Ray& ray, const RayHit& hit) const;
@@ -137,6 +133,10 @@ class Integrator {
   Haze haze_;               // the scene's haze; disabled: no extra work, no random numbers
   MaterialLobes lobes_;     // the scene's materials, interleaved for the BSDFs at hits
 
+  // trace_paths' stages: advance() shades path.ray's hit, leaving the bounce's shadow ray in
+  // path.shadow and the next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
+  void advance(PathState& path, bool found, const RayHit& hit) const;
+  void resolve_shadow(PathState& path, uint64_t& rays) const;
   void record_first_hit(const SurfaceInteraction& si, const Bsdf& bsdf, float t, FirstHit* first) const;
   // The turbid crown a hit is on, or nullptr.
   const HalfSpaceSolid* turbid_solid(const RayHit& hit) const;
