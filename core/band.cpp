@@ -5,7 +5,9 @@
 #include "core/table.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <numeric>
 
 namespace sylva {
 
@@ -158,36 +160,74 @@ WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
   for (const Band& b : bands)
     for (int i = 0; i + 1 < kLambdaSamples; ++i) w[i] += 0.5f * (b.importance[i] + b.importance[i + 1]);
   // The table spans the 1 nm bins from the first to the last with importance: the same density in a
-  // table a third the size for the rgb and nir bands, read four times per path after Embree has
-  // evicted most of the cache (bench/README.md, "The sky's table and spectral tables").
+  // table a third the size for the rgb and nir bands.
   const auto first = std::find_if(w.begin(), w.end(), [](float x) { return x > 0; });
   if (first != w.end()) {
     const auto last = std::find_if(w.rbegin(), w.rend(), [](float x) { return x > 0; }).base();
     lo_nm_ = kLambdaMin + static_cast<float>(first - w.begin());
-    range_nm_ = static_cast<float>(last - first);
     w = std::vector<float>(first, last);
   }
-  distribution_ = Distribution1D(w);
-  hi_nm_ = std::nextafter(lo_nm_ + range_nm_, 0.0f);
+  const int n = static_cast<int>(w.size());
+  std::vector<DistributionBin> table(n + 1);
+  std::vector<uint32_t> guide(n);
+  Distribution1D::tabulate(w.data(), n, table.data(), guide.data());
+  cdf_.resize(n + 1);
+  for (int i = 0; i <= n; ++i) cdf_[i] = table[i].cdf;
+  // Each cell's first bin: the bin with mass whose [cdf, next cdf) holds the cell's start.
+  const auto next_with_mass = [&](int i) {
+    while (i < n && !(cdf_[i + 1] > cdf_[i])) ++i;
+    return i;  // n: none
+  };
+  cells_.resize(kCells);
+  int bin = next_with_mass(0);
+  for (int k = 0; k < kCells; ++k) {
+    const float u0 = static_cast<float>(k) / kCells;
+    while (bin + 1 < n && cdf_[bin + 1] <= u0) bin = next_with_mass(bin + 1);
+    const int second = next_with_mass(bin + 1);
+    cells_[k] = Cell{cdf_[bin], second < n ? cdf_[second] : 1.0f, second < n ? cdf_[second + 1] : 1.0f,
+                     static_cast<uint16_t>(bin), static_cast<uint16_t>(second < n ? second : bin)};
+  }
 }
 
 SampledWavelengths WavelengthSampler::sample(float u) const {
   SampledWavelengths wl;
-  for (int i = 0; i < kLambdaCount; ++i) {
-    float ui = u + static_cast<float>(i) / kLambdaCount;
-    if (ui >= 1.0f) ui -= 1.0f;
-    const float x = distribution_.sample(ui, nullptr);
-    const float lambda = std::min(lo_nm_ + x * range_nm_, hi_nm_);
-    wl.lambda_nm[i] = lambda;
-    // pdf(λ), evaluated from λ so it agrees with pdf() at bin edges; λ is inside [lo, hi].
-    wl.pdf[i] = distribution_.pdf((lambda - lo_nm_) / range_nm_) / range_nm_;
+  const int n = static_cast<int>(cdf_.size()) - 1;
+  // The four cells first, so that their loads overlap, then each wavelength without a branch on
+  // them: the bin holding u_k is the cell's first or second, or (rarely) one further on.
+  float uk[kLambdaCount];
+  const Cell* cell[kLambdaCount];
+  for (int k = 0; k < kLambdaCount; ++k) {
+    uk[k] = u + static_cast<float>(k) / kLambdaCount;
+    if (uk[k] >= 1.0f) uk[k] -= 1.0f;
+    cell[k] = &cells_[std::min(static_cast<int>(uk[k] * kCells), kCells - 1)];
+  }
+  for (int k = 0; k < kLambdaCount; ++k) {
+    const Cell& c = *cell[k];
+    const bool second = uk[k] >= c.cdf1;
+    int bin = second ? c.bin1 : c.bin0;
+    float lo = second ? c.cdf1 : c.cdf0, hi = second ? c.end1 : c.cdf1;
+    if (uk[k] >= hi) [[unlikely]] {
+      bin = c.bin1 + 1;
+      while (bin + 1 < n && cdf_[bin + 1] <= uk[k]) ++bin;
+      lo = cdf_[bin], hi = cdf_[bin + 1];
+    }
+    const float mass = hi - lo;  // > 0: lo ≤ u_k < hi
+    const float du = std::clamp((uk[k] - lo) / mass, 0.0f, 1.0f);
+    // lo_nm + bin is a whole number of nm, exact in float; λ stays below the bin's upper edge, so
+    // pdf(λ) finds this bin.
+    const float edge = lo_nm_ + static_cast<float>(bin);
+    const float below_next = std::bit_cast<float>(std::bit_cast<uint32_t>(edge + 1.0f) - 1u);
+    wl.lambda_nm[k] = std::min(edge + du, below_next);
+    wl.pdf[k] = mass;  // per nm: the bins are 1 nm wide
   }
   return wl;
 }
 
 float WavelengthSampler::pdf(float lambda_nm) const {
-  if (!(lambda_nm >= lo_nm_ && lambda_nm < lo_nm_ + range_nm_)) return 0.0f;
-  return distribution_.pdf((lambda_nm - lo_nm_) / range_nm_) / range_nm_;
+  const int n = static_cast<int>(cdf_.size()) - 1;
+  if (!(lambda_nm >= lo_nm_ && lambda_nm < lo_nm_ + static_cast<float>(n))) return 0.0f;
+  const int bin = std::min(bin_of(lambda_nm), n - 1);
+  return cdf_[bin + 1] - cdf_[bin];
 }
 
 }  // namespace sylva

@@ -64,12 +64,27 @@ class WavelengthSampler {
   float pdf(float lambda_nm) const;  // per nm
 
  private:
-  // Over [lo, lo + range] nm: the 1 nm bins from the first to the last with importance (all of
-  // [kLambdaMin, kLambdaMax] when no band has any).
-  Distribution1D distribution_;
+  // The density is piecewise constant on the 1 nm bins of Σ importance from the first bin with
+  // importance to the last, [lo, lo + n) nm: a bin's density per nm is its mass, the difference of
+  // the CDF at its ends (exact in float, and exactly the probability that a uniform u picks it).
+  // Inverting the CDF takes one table entry: the cells split [0, 1) into kCells equal parts of u,
+  // and each holds the (at most two) bins it overlaps, so a wavelength reads one 16-byte entry and
+  // searches nothing (the tables are read after Embree's traversal has evicted them:
+  // bench/README.md, "Wavelengths from one table entry"). A cell over three or more bins (bins
+  // of less than 1/kCells of the mass each) searches the CDF.
+  static constexpr int kCells = 1024;
+  struct Cell {
+    float cdf0;  // where the bin holding the cell's start begins
+    float cdf1;  // where it ends: the start of the next bin with mass (1: none)
+    float end1;  // where that next bin ends (1: none): a u beyond lies in a later bin
+    uint16_t bin0, bin1;
+  };
+  static_assert(sizeof(Cell) == 16);
+  int bin_of(float lambda_nm) const { return static_cast<int>(lambda_nm - lo_nm_); }
+
+  std::vector<float> cdf_;   // n + 1: cdf_[i] is the mass of bins [0, i)
+  std::vector<Cell> cells_;  // kCells
   float lo_nm_ = kLambdaMin;
-  float range_nm_ = kLambdaMax - kLambdaMin;
-  float hi_nm_ = std::nextafter(kLambdaMax, 0.0f);  // the largest λ sampled: below lo + range
 };
 
 }  // namespace sylva

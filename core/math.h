@@ -51,16 +51,19 @@ struct Frame {
   Vec3 to_world(const Vec3& v) const { return x * v.x + y * v.y + z * v.z; }
 };
 
-// The azimuth of a direction about +Z, from +X towards +Y, in [0, 2π) (spherical_direction's φ).
-inline float spherical_phi(const Vec3& d) {
-  const float phi = std::atan2(d.y, d.x);
-  return phi < 0 ? phi + kTwoPi : phi;
-}
+// The azimuth of a direction about +Z, from +X towards +Y, in [0, 2π) (spherical_direction's φ),
+// from atan2(y, x) in (−π, π].
+inline float azimuth_from_atan2(float atan2_phi) { return atan2_phi < 0 ? atan2_phi + kTwoPi : atan2_phi; }
+inline float spherical_phi(const Vec3& d) { return azimuth_from_atan2(std::atan2(d.y, d.x)); }
 
-// Unit direction from spherical angles about +Z: azimuth measured from +X towards +Y.
-inline Vec3 spherical_direction(float sin_theta, float cos_theta, float phi) {
-  return {std::clamp(sin_theta, -1.0f, 1.0f) * std::cos(phi), std::clamp(sin_theta, -1.0f, 1.0f) * std::sin(phi),
+// Unit direction from spherical angles about +Z: azimuth measured from +X towards +Y, given by its
+// sine and cosine or by the angle.
+inline Vec3 spherical_direction(float sin_theta, float cos_theta, float sin_phi, float cos_phi) {
+  return {std::clamp(sin_theta, -1.0f, 1.0f) * cos_phi, std::clamp(sin_theta, -1.0f, 1.0f) * sin_phi,
           std::clamp(cos_theta, -1.0f, 1.0f)};
+}
+inline Vec3 spherical_direction(float sin_theta, float cos_theta, float phi) {
+  return spherical_direction(sin_theta, cos_theta, std::sin(phi), std::cos(phi));
 }
 
 }  // namespace sylva

@@ -1,5 +1,7 @@
 #include "core/sampling.h"
 
+#include "core/fast_math.h"
+
 #include <numeric>
 
 namespace sylva {
@@ -7,15 +9,13 @@ namespace sylva {
 Vec2 sample_uniform_disk(Vec2 u) {
   const Vec2 o = 2.0f * u - Vec2(1.0f);
   if (o.x == 0 && o.y == 0) return Vec2(0.0f);
-  float r, theta;
+  // θ = (π/4)·(o.y/o.x), or π/2 − (π/4)·(o.x/o.y): both from sin and cos of an angle in [−π/4, π/4].
   if (std::abs(o.x) > std::abs(o.y)) {
-    r = o.x;
-    theta = (kPi / 4) * (o.y / o.x);
-  } else {
-    r = o.y;
-    theta = kPi / 2 - (kPi / 4) * (o.x / o.y);
+    const SinCos sc = sincos_quarter((kPi / 4) * (o.y / o.x));
+    return o.x * Vec2(sc.cos, sc.sin);
   }
-  return r * Vec2(std::cos(theta), std::sin(theta));
+  const SinCos sc = sincos_quarter((kPi / 4) * (o.x / o.y));
+  return o.y * Vec2(sc.sin, sc.cos);
 }
 
 float Distribution1D::tabulate(const float* weights, int n, DistributionBin* bins, uint32_t* guide) {

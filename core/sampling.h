@@ -2,6 +2,7 @@
 // Sampling routines: warps from [0,1)² and tabulated distributions. Each has a pdf function and a
 // χ² test in tests/core/test_sampling.cpp.
 
+#include "core/fast_math.h"
 #include "core/math.h"
 
 #include <vector>
@@ -23,7 +24,7 @@ inline float cosine_hemisphere_pdf(float cos_theta) { return std::max(0.0f, cos_
 inline Vec3 sample_uniform_cone(Vec2 u, float one_minus_cos_max) {
   const float one_minus_cos = u.x * one_minus_cos_max;
   const float sin_theta = safe_sqrt(one_minus_cos * (2.0f - one_minus_cos));
-  return spherical_direction(sin_theta, 1.0f - one_minus_cos, kTwoPi * u.y);
+  return spherical_direction_fast(sin_theta, 1.0f - one_minus_cos, kTwoPi * u.y);
 }
 inline float uniform_cone_pdf(float one_minus_cos_max) { return 1.0f / (kTwoPi * one_minus_cos_max); }
 inline float one_minus_cos(float half_angle_rad) { return 2.0f * sqr(std::sin(0.5f * half_angle_rad)); }

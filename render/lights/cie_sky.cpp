@@ -37,15 +37,15 @@ CieSkyShape::CieSkyShape(int type, const Vec3& sun_dir) : sun_dir_(sun_dir) {
   c_ = k.c;
   d_ = k.d;
   e_ = k.e;
-  exp_d_half_pi_ = std::exp(k.d * kPi / 2);
+  exp_d_half_pi_ = exp_fast(k.d * kPi / 2);
   const float cos_zs = std::clamp(sun_dir.z, -1.0f, 1.0f);
-  zenith_ = indicatrix(std::acos(cos_zs), cos_zs) * gradation(1.0f);
+  inv_zenith_ = 1.0f / (indicatrix(acos_fast(cos_zs), cos_zs) * gradation(1.0f));
 }
 
 float CieSkyShape::operator()(const Vec3& dir) const {
   if (dir.z <= 0) return 0.0f;
   const float cos_chi = std::clamp(glm::dot(dir, sun_dir_), -1.0f, 1.0f);
-  const float value = indicatrix(std::acos(cos_chi), cos_chi) * gradation(dir.z) / zenith_;
+  const float value = indicatrix(acos_fast(cos_chi), cos_chi) * gradation(dir.z) * inv_zenith_;
   return std::max(0.0f, value);
 }
 

@@ -3,6 +3,7 @@
 // sky spectrum is the diffuse irradiance on a horizontal surface and the radiance is that spectrum
 // times the distribution, normalised to match it. Scene file: [sky] model = "cie", type = 1..15.
 
+#include "core/fast_math.h"
 #include "core/math.h"
 #include "core/params.h"
 #include "core/spectrum.h"
@@ -25,16 +26,16 @@ class CieSkyShape {
   const Vec3& sun_direction() const { return sun_dir_; }
 
  private:
-  float gradation(float cos_z) const { return 1.0f + a_ * std::exp(b_ / std::max(cos_z, 1e-4f)); }
+  float gradation(float cos_z) const { return 1.0f + a_ * exp_fast(b_ / std::max(cos_z, 1e-4f)); }
   // χ, the angle to the sun, and its cosine (the dot product the caller has: no cos(acos(x))).
   float indicatrix(float chi, float cos_chi) const {
-    return 1.0f + c_ * (std::exp(d_ * chi) - exp_d_half_pi_) + e_ * sqr(cos_chi);
+    return 1.0f + c_ * (exp_fast(d_ * chi) - exp_d_half_pi_) + e_ * sqr(cos_chi);
   }
 
   Vec3 sun_dir_;
   float a_, b_, c_, d_, e_;
   float exp_d_half_pi_;
-  float zenith_;  // f(Z_sun)·φ(0)
+  float inv_zenith_;  // 1 / (f(Z_sun)·φ(0))
 };
 
 // The same for one direction (a CieSkyShape made and used once).

@@ -239,7 +239,8 @@ SampledSpectrum Environment::eval(const Vec3& dir, const SampledWavelengths& wl)
 
 float Environment::sky_pdf(const Vec3& dir) const {
   if (dir.z <= sky_z_min_) return 0.0f;
-  const float p = sky_distribution_.pdf(Vec2(spherical_phi(dir) * kInvTwoPi, (1.0f - dir.z) / (1.0f - sky_z_min_)));
+  const float p =
+      sky_distribution_.pdf(Vec2(spherical_phi_fast(dir) * kInvTwoPi, (1.0f - dir.z) / (1.0f - sky_z_min_)));
   return p / (kTwoPi * (1.0f - sky_z_min_));
 }
 
@@ -263,7 +264,7 @@ LightSample Environment::sample(Vec2 u, float u_select, const SampledWavelengths
   if (p_sky_ == 0) return s;
   const Vec2 uv = sky_distribution_.sample(u, nullptr);
   const float z = 1.0f - uv.y * (1.0f - sky_z_min_);
-  s.wi = spherical_direction(safe_sqrt(1.0f - z * z), z, uv.x * kTwoPi);
+  s.wi = spherical_direction_fast(safe_sqrt(1.0f - z * z), z, uv.x * kTwoPi);
   // The density of the direction as pdf() finds it (not the sampled cell's: rounding can put a
   // direction on a cell's edge in the neighbouring cell), so the two always agree.
   s.pdf = pdf(s.wi);

@@ -1,6 +1,7 @@
 #include "render/media/haze.h"
 
 #include "core/error.h"
+#include "core/fast_math.h"
 
 #include <cmath>
 
@@ -28,7 +29,7 @@ Vec3 sample_henyey_greenstein(const Vec3& a, float g, Vec2 u) {
   }
   mu = std::clamp(mu, -1.0f, 1.0f);
   const float sin_theta = std::sqrt(std::max(0.0f, 1.0f - mu * mu));
-  return Frame::from_z(a).to_world(spherical_direction(sin_theta, mu, kTwoPi * u.y));
+  return Frame::from_z(a).to_world(spherical_direction_fast(sin_theta, mu, kTwoPi * u.y));
 }
 
 Haze::Haze(const HazeDesc& desc) : desc_(desc) {

@@ -88,19 +88,18 @@ TEST(Sampling, Distribution2DChi2) {
   EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
 }
 
-TEST(Sampling, WavelengthSamplerChi2AndCoverage) {
-  const std::vector<Band> bands = {resolve_band("rgb"), resolve_band("nir")};
+// χ² of n hero wavelengths from `bands` against the sampler's own pdf over [lo, hi) nm, each
+// sample's pdf being pdf(λ); every channel weight covered (w_c ≠ 0 ⇒ pdf > 0).
+void expect_wavelengths_follow_pdf(const std::vector<Band>& bands, float lo, float hi, int bins) {
   const WavelengthSampler s(bands);
   Pcg32 rng(8);
   constexpr int n = 1'000'000;  // 4 wavelengths per draw: each marginally distributed by the pdf
-  constexpr float lo = 300, hi = 1200;
-  constexpr int bins = 180;
   std::vector<double> obs(bins, 0.0), exp(bins, 0.0);
   for (int i = 0; i < n; ++i) {
     const SampledWavelengths wl = s.sample(rng.uniform());
     const float l = wl.lambda_nm[i % kLambdaCount];
     ASSERT_GT(wl.pdf[i % kLambdaCount], 0.0f);
-    ASSERT_NEAR(wl.pdf[i % kLambdaCount], s.pdf(l), 1e-6f);
+    ASSERT_EQ(wl.pdf[i % kLambdaCount], s.pdf(l)) << l;
     if (l >= lo && l < hi) obs[static_cast<int>((l - lo) / (hi - lo) * bins)] += 1;
   }
   for (int b = 0; b < bins; ++b) {
@@ -111,13 +110,31 @@ TEST(Sampling, WavelengthSamplerChi2AndCoverage) {
   }
   const auto r = chi2_test(obs, exp);
   EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
-  // Every band channel's weight is covered: w_c ≠ 0 ⇒ pdf > 0.
   for (const Band& b : bands)
     for (const DenseSpectrum& w : b.weights)
       for (int i = 0; i < kLambdaSamples - 1; ++i)
         if (w[i] != 0) {
           ASSERT_GT(s.pdf(DenseSpectrum::grid_lambda(i) + 0.5f), 0.0f) << b.name << " at " << i;
         }
+}
+
+TEST(Sampling, WavelengthSamplerChi2AndCoverage) {
+  expect_wavelengths_follow_pdf({resolve_band("rgb"), resolve_band("nir")}, 300, 1200, 180);
+}
+
+// A spike on a faint 1 000 nm floor: most of the sampler's cells lie in the spike's few bins, and a
+// cell in the floor spans many bins (the sampler's search beyond a cell's two bins).
+TEST(Sampling, WavelengthSamplerSpikeOnFaintFloor) {
+  DenseSpectrum response;
+  for (int i = 0; i < kLambdaSamples; ++i) {
+    const float l = DenseSpectrum::grid_lambda(i);
+    response[i] = l >= 400 && l <= 1400 ? (l >= 550 && l <= 552 ? 1.0f : 1e-5f) : 0.0f;
+  }
+  expect_wavelengths_follow_pdf({make_srf_band("spike", response)}, 390, 1410, 204);
+  const WavelengthSampler s({make_srf_band("spike", response)});
+  // The density is the importance's, to the float CDF's resolution (6·10⁻⁸ in u: 2 % of a floor
+  // bin's mass of 3·10⁻⁶; what a uniform u then picks it with).
+  EXPECT_NEAR(s.pdf(551.0f) / s.pdf(900.0f), 1e5, 1e5 * 0.02);
 }
 
 TEST(Sampling, HeroWavelengthsAreStratified) {
