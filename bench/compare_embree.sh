@@ -11,8 +11,9 @@
 # not cut there — bench/README.md) plus the tutorial's camera and light options, then rendered by
 #   pathtracer -i scene.obj --size W H --spp 1 --benchmark 4 N --legacy --threads T <camera, lights>
 # (4 warm-up frames, N timed frames of one path per pixel; the tutorial's default maximum path
-# length is 8, --max-path-length passes another, e.g. 16 = Sylva's default max_depth), and by
-#   sylva render SCENE --res WxH --spp N --seed 1 --threads T
+# length is 8, --max-path-length N passes another to it and the same cap to Sylva as --max-depth N,
+# so both stop a path after the same number of bounces), and by
+#   sylva render SCENE --res WxH --spp N --seed 1 --threads T [--max-depth N]
 # (N samples per pixel in one pass: the same number of paths per pixel as the N timed frames).
 #
 # A "sample" is one camera path in both: for the tutorial, samples/s = W·H·spp·fps with spp = 1
@@ -38,6 +39,7 @@ frames=20
 pathtracer=pathtracer
 rounds=1
 embree_extra=()
+sylva_extra=()
 while [[ $# -gt 0 ]]; do
   case $1 in
     --res) res=$2; shift 2 ;;
@@ -45,7 +47,7 @@ while [[ $# -gt 0 ]]; do
     --frames) frames=$2; shift 2 ;;
     --pathtracer) pathtracer=$2; shift 2 ;;
     --rounds) rounds=$2; shift 2 ;;
-    --max-path-length) embree_extra+=(--max-path-length "$2"); shift 2 ;;
+    --max-path-length) embree_extra+=(--max-path-length "$2"); sylva_extra+=(--max-depth "$2"); shift 2 ;;
     -h|--help) usage ;;
     -*) echo "compare_embree: unknown option $1" >&2; usage ;;
     *) scene=$1; shift ;;
@@ -91,7 +93,7 @@ for ((r = 1; r <= rounds; ++r)); do
   # Sylva, same size, same paths per pixel, fixed seed.
   sylva_load=$(load)
   "$sylva" render ${scene:+"$scene"} -o "$work/sylva.exr" --res "$res" --spp "$frames" --seed 1 --threads "$threads" \
-    --checkpoint-minutes 0 >"$work/sylva.log" 2>&1 || { cat "$work/sylva.log" >&2; exit 1; }
+    "${sylva_extra[@]}" --checkpoint-minutes 0 >"$work/sylva.log" 2>&1 || { cat "$work/sylva.log" >&2; exit 1; }
   summary=$(grep 'M samples/s' "$work/sylva.log" | tail -1)
   [[ $summary =~ ([0-9.]+)\ M\ samples/s,\ ([0-9.]+)\ M\ rays/s ]] ||
     { echo "compare_embree: no throughput line in sylva output:" >&2; cat "$work/sylva.log" >&2; exit 1; }
