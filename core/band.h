@@ -66,7 +66,7 @@ class WavelengthSampler {
  private:
   // The density is piecewise constant on the 1 nm bins of Σ importance from the first bin with
   // importance to the last, [lo, lo + n) nm: a bin's density per nm is its mass, the difference of
-  // the CDF at its ends (exact in float, and exactly the probability that a uniform u picks it).
+  // the float CDF at its ends (the probability that a uniform u picks it).
   // Inverting the CDF takes one table entry: the cells split [0, 1) into kCells equal parts of u,
   // and each holds the (at most two) bins it overlaps, so a wavelength reads one 16-byte entry and
   // searches nothing (the tables are read after Embree's traversal has evicted them:
@@ -80,6 +80,7 @@ class WavelengthSampler {
     uint16_t bin0, bin1;
   };
   static_assert(sizeof(Cell) == 16);
+  static_assert(kLambdaSamples <= 65536, "bin indices are 16-bit");
   int bin_of(float lambda_nm) const { return static_cast<int>(lambda_nm - lo_nm_); }
 
   std::vector<float> cdf_;   // n + 1: cdf_[i] is the mass of bins [0, i)
