@@ -1,7 +1,7 @@
 #pragma once
 // sin and cos, atan2, acos and exp in float, inline and without libm's calls: for the samplers and
-// the sky, which evaluate them once or twice per bounce (bench/README.md, "Wavelengths from a
-// quantile table, trigonometry inline"). Each is within a few 10⁻⁷ of the exact value (absolute
+// the sky, which evaluate them once or twice per bounce (bench/README.md, "Wavelengths from one
+// table entry, trigonometry inline"). Each is within a few 10⁻⁷ of the exact value (absolute
 // for sin, cos, atan2 and acos; relative for exp) over the domain stated;
 // tests/core/test_fast_math.cpp measures them against double precision. Geometry keeps the
 // standard functions, so a tree's shape does not depend on these.
