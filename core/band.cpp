@@ -196,15 +196,16 @@ SampledWavelengths WavelengthSampler::sample(float u) const {
   float uk[kLambdaCount];
   const Cell* cell[kLambdaCount];
   for (int k = 0; k < kLambdaCount; ++k) {
-    uk[k] = u + static_cast<float>(k) / kLambdaCount;
-    if (uk[k] >= 1.0f) uk[k] -= 1.0f;
+    const float v = u + static_cast<float>(k) / kLambdaCount;
+    uk[k] = select(v >= 1.0f, v - 1.0f, v);
     cell[k] = &cells_[std::min(static_cast<int>(uk[k] * kCells), kCells - 1)];
   }
   for (int k = 0; k < kLambdaCount; ++k) {
     const Cell& c = *cell[k];
-    const bool second = uk[k] >= c.cdf1;
+    const float cdf0 = c.cdf0, cdf1 = c.cdf1, end1 = c.end1;
+    const bool second = uk[k] >= cdf1;
     int bin = second ? c.bin1 : c.bin0;
-    float lo = second ? c.cdf1 : c.cdf0, hi = second ? c.end1 : c.cdf1;
+    float lo = select(second, cdf1, cdf0), hi = select(second, end1, cdf1);
     if (uk[k] >= hi) [[unlikely]] {
       bin = c.bin1 + 1;
       while (bin + 1 < n && cdf_[bin + 1] <= uk[k]) ++bin;

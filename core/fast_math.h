@@ -38,8 +38,8 @@ inline SinCos sincos_fast(float x) {
   const SinCos q0 = sincos_quarter(r);
   // sin(r + jπ/2), cos(r + jπ/2): quadrants 1 and 3 swap the two, 2 and 3 negate sin, 1 and 2 cos.
   const auto q = static_cast<unsigned>(j) & 3u;
-  const float sin_x = (q & 1u) ? q0.cos : q0.sin, cos_x = (q & 1u) ? q0.sin : q0.cos;
-  return {(q & 2u) ? -sin_x : sin_x, ((q + 1u) & 2u) ? -cos_x : cos_x};
+  const float sin_x = select(q & 1u, q0.cos, q0.sin), cos_x = select(q & 1u, q0.sin, q0.cos);
+  return {select(q & 2u, -sin_x, sin_x), select((q + 1u) & 2u, -cos_x, cos_x)};
 }
 
 // atan2(y, x) in [−π, π] for finite x, y (0 when both are 0).
@@ -50,12 +50,12 @@ inline float atan2_fast(float y, float x) {
   // atan a: above tan(π/8), π/4 + atan((a − 1)/(a + 1)); a minimax polynomial for |t| ≤ tan(π/8)
   // (the coefficients of Cephes atanf).
   const bool upper = a > 0.41421356f;
-  const float t = upper ? (a - 1.0f) / (a + 1.0f) : a;
+  const float t = select(upper, (a - 1.0f) / (a + 1.0f), a);
   const float z = t * t;
   float r = (((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * t + t;
-  if (upper) r += 0.25f * kPi;
-  if (ay > ax) r = 0.5f * kPi - r;
-  if (x < 0) r = kPi - r;
+  r = select(upper, r + 0.25f * kPi, r);
+  r = select(ay > ax, 0.5f * kPi - r, r);
+  r = select(x < 0, kPi - r, r);
   return std::copysign(r, y);
 }
 
@@ -72,7 +72,7 @@ inline float acos_fast(float x) {
   p = p * a - 0.2145988016f;
   p = p * a + 1.5707963050f;
   const float r = std::sqrt(1.0f - a) * p;
-  return x < 0 ? kPi - r : r;
+  return select(x < 0, kPi - r, r);
 }
 
 // e^x for x ≤ 88 (0 below −87.3, where e^x leaves the normal floats).

@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -34,6 +35,14 @@ inline float safe_sqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
 inline float safe_acos(float x) { return std::acos(std::clamp(x, -1.0f, 1.0f)); }
 inline bool is_finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// c ? a : b without a branch, bit for bit: both are computed, and the mask picks one. For choices
+// on random samples (a quadrant, one of two table bins, a sign), where a branch mispredicts about
+// half the time (bench/README.md, "Branches on random numbers").
+inline float select(bool c, float a, float b) {
+  const uint32_t m = 0u - static_cast<uint32_t>(c);
+  return std::bit_cast<float>((std::bit_cast<uint32_t>(a) & m) | (std::bit_cast<uint32_t>(b) & ~m));
+}
+
 // Orthonormal frame; `z` is the normal. Built with the branchless method of
 // Duff et al. 2017, "Building an Orthonormal Basis, Revisited".
 struct Frame {
@@ -53,7 +62,7 @@ struct Frame {
 
 // The azimuth of a direction about +Z, from +X towards +Y, in [0, 2π) (spherical_direction's φ),
 // from atan2(y, x) in (−π, π].
-inline float azimuth_from_atan2(float atan2_phi) { return atan2_phi < 0 ? atan2_phi + kTwoPi : atan2_phi; }
+inline float azimuth_from_atan2(float atan2_phi) { return select(atan2_phi < 0, atan2_phi + kTwoPi, atan2_phi); }
 inline float spherical_phi(const Vec3& d) { return azimuth_from_atan2(std::atan2(d.y, d.x)); }
 
 // Unit direction from spherical angles about +Z: azimuth measured from +X towards +Y, given by its

@@ -136,14 +136,17 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
   }
   if (hit.leaf) {
     const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
-    // Embree's quad parametrisation: triangle (c0,c1,c3) for u+v <= 1, (c2,c3,c1) beyond.
-    if (hit.u + hit.v <= 1.0f) {
-      p_obj = (1.0f - hit.u - hit.v) * c[0] + hit.u * c[1] + hit.v * c[3];
-      ng_obj = glm::cross(c[1] - c[0], c[3] - c[0]);
-    } else {
-      p_obj = (hit.u + hit.v - 1.0f) * c[2] + (1.0f - hit.u) * c[3] + (1.0f - hit.v) * c[1];
-      ng_obj = glm::cross(c[3] - c[2], c[1] - c[2]);
-    }
+    // Embree's quad parametrisation: triangle (c0,c1,c3) weighted (1−u−v, u, v) for u+v <= 1,
+    // (c2,c3,c1) weighted (u+v−1, 1−u, 1−v) beyond. Which half a ray meets is random: the corners
+    // and weights are selected, not branched on (the same arithmetic either way).
+    const bool far = hit.u + hit.v > 1.0f;
+    const Vec3& a = far ? c[2] : c[0];
+    const Vec3& b = far ? c[3] : c[1];
+    const Vec3& d = far ? c[1] : c[3];
+    const float wa = select(far, hit.u + hit.v - 1.0f, 1.0f - hit.u - hit.v);
+    const float wb = select(far, 1.0f - hit.u, hit.u), wd = select(far, 1.0f - hit.v, hit.v);
+    p_obj = wa * a + wb * b + wd * d;
+    ng_obj = glm::cross(b - a, d - a);
     si.material = proto.leaf_material;
     if (!proto.leaves.stem.empty()) si.stem = proto.leaves.stem[hit.primitive];
   } else {
@@ -183,20 +186,26 @@ void Integrator::trace_paths(std::span<PathState> paths, uint64_t& rays) const {
     throw Error(fmt::format("trace_paths: {} paths, at most {} at a time", paths.size(), kMaxPaths));
   RayHit hits[kMaxPaths];
   bool found[kMaxPaths];
-  const size_t n = paths.size();
-  for (bool any = n > 0; any;) {
+  // The paths still alive, in order. Which ones end at a bounce is random, so the list is kept
+  // without a branch per path (bench/README.md, "Branches on random numbers").
+  PathState* live[kMaxPaths];
+  size_t n = 0;
+  for (PathState& path : paths) {
+    live[n] = &path;
+    n += path.alive;
+  }
+  while (n > 0) {
+    for (size_t k = 0; k < n; ++k) found[k] = embree_.intersect(live[k]->ray, &hits[k]);
+    rays += n;
+    for (size_t k = 0; k < n; ++k) advance(*live[k], found[k], hits[k]);
+    // A path that ended at this bounce may still have its last shadow ray to resolve.
+    size_t still = 0;
     for (size_t k = 0; k < n; ++k) {
-      if (!paths[k].alive) continue;
-      ++rays;
-      found[k] = embree_.intersect(paths[k].ray, &hits[k]);
+      resolve_shadow(*live[k], rays);
+      live[still] = live[k];
+      still += live[k]->alive;
     }
-    for (size_t k = 0; k < n; ++k)
-      if (paths[k].alive) advance(paths[k], found[k], hits[k]);
-    any = false;
-    for (PathState& path : paths) {
-      resolve_shadow(path, rays);
-      any = any || path.alive;
-    }
+    n = still;
   }
 }
 

@@ -4,12 +4,27 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace sylva {
 namespace {
 
 constexpr int kSteps = 2'000'003;  // odd, so the sweeps do not step in round fractions of π
+
+// select() is c ? a : b bit for bit: signed zeros, infinities and NaN payloads included.
+TEST(FastMath, SelectPicksTheBitsOfOne) {
+  const float values[] = {0.0f, -0.0f, 1.5f, -3.25e-38f, std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity(), std::bit_cast<float>(0x7fc00123u),
+                          std::numeric_limits<float>::denorm_min()};
+  for (float a : values)
+    for (float b : values) {
+      EXPECT_EQ(std::bit_cast<uint32_t>(select(true, a, b)), std::bit_cast<uint32_t>(a));
+      EXPECT_EQ(std::bit_cast<uint32_t>(select(false, a, b)), std::bit_cast<uint32_t>(b));
+    }
+}
 
 TEST(FastMath, SinCosWithinFewE7) {
   double worst = 0;
