@@ -67,9 +67,9 @@ void check_before_rendering(const RenderOptions& opt, const RenderJob& job, cons
 void print_scene_stats(const EmbreeStats& es) {
   fmt::print(stderr,
              "scene: {} instances, {} unique triangles + {} leaf quads + {} curves ({} + {} + {} instanced); BVH "
-             "{:.1f} MiB in {:.0f} ms\n",
+             "{:.1f} MiB in {:.0f} ms, Embree's {} kernels\n",
              es.instances, es.triangles, es.leaf_quads, es.curves, es.instanced_triangles, es.instanced_leaf_quads,
-             es.instanced_curves, es.bvh_bytes / 1048576.0, es.build_ms);
+             es.instanced_curves, es.bvh_bytes / 1048576.0, es.build_ms, embree_isa_name(es.isa));
 }
 
 void print_summary(const std::string& what, const RenderStats& total, double wall) {
@@ -88,7 +88,7 @@ int render_image(const RenderOptions& opt, const RenderJob& job, const std::file
   check_before_rendering(opt, job, exr, png, false);
   if (!opt.quiet)
     for (const std::string& w : job.file.warnings) fmt::print(stderr, "{}\n", w);
-  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings));
+  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings), job.settings.isa);
   if (!opt.quiet) print_scene_stats(embree.stats());
   SessionOptions session_options;
   session_options.checkpoint = checkpoint_of(exr);
@@ -145,7 +145,7 @@ int render_chunk(const RenderOptions& opt, RenderJob job, const std::filesystem:
   const ChunkWork work = chunk_work(spec, job.settings.width, job.settings.height, job.settings.spp);
   check_before_rendering(opt, job, out, {}, true);
   job.settings.cancel = &InterruptHandlers::flag();
-  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings));
+  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings), job.settings.isa);
   if (!opt.quiet) print_scene_stats(embree.stats());
   InterruptHandlers::set(InterruptHandlers::OnSignal::set_flag);
   Renderer renderer(job.file.scene, embree, job.settings);
@@ -247,6 +247,9 @@ CommandRun add_render_command(CLI::App& parent) {
   cmd->add_option("--max-depth", req.max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
   cmd->add_option("--quantity", req.quantity, "Band channels as radiance or reflectance (factor)")
       ->check(CLI::IsMember({"radiance", "reflectance"}));
+  cmd->add_option("--isa", req.isa,
+                  "Embree's kernels: native (the processor's widest) or a cap: sse2, sse4.2, avx, avx2, avx512")
+      ->check(CLI::IsMember({"native", "sse2", "sse4.2", "avx", "avx2", "avx512"}));
   cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes,
                   "Write a checkpoint this often (0 = only on interrupt)")
       ->check(kFiniteNumber & CLI::Range(0.0, 1e6));

@@ -90,6 +90,7 @@ RenderJob prepare_render(const RenderRequest& request) {
   settings.threads = request.threads;
   if (request.max_depth > 0) settings.integrator.max_depth = request.max_depth;
   if (!request.quantity.empty()) settings.quantity = parse_quantity(request.quantity);
+  if (!request.isa.empty()) settings.isa = parse_embree_isa(request.isa);
   if (!request.bands.empty()) settings.bands = resolve_bands(job.file, split_list(request.bands));
   settings.progress = request.progress;
   return job;
@@ -105,7 +106,8 @@ std::map<std::string, std::string> describe_job(const RenderRequest& request, co
       {"seed", std::to_string(s.seed)},
       {"max_depth", std::to_string(s.integrator.max_depth)},
       {"bands", bands},
-      {"quantity", quantity_name(s.quantity)}};
+      {"quantity", quantity_name(s.quantity)},
+      {"isa", embree_isa_name(s.isa)}};
   // Hexadecimal: the exact double, so the merge rebuilds the same scene.
   if (request.time_s) fields["time"] = fmt::format("{:a}", *request.time_s);
   return fields;
@@ -120,6 +122,7 @@ RenderRequest request_from_job(const std::map<std::string, std::string>& fields,
   r.max_depth = static_cast<int>(to_int("max_depth", field(fields, "max_depth")));
   r.bands = field(fields, "bands");
   if (const auto it = fields.find("quantity"); it != fields.end()) r.quantity = it->second;
+  if (const auto it = fields.find("isa"); it != fields.end()) r.isa = it->second;
   if (const auto it = fields.find("time"); it != fields.end()) {
     char* end = nullptr;
     r.time_s = std::strtod(it->second.c_str(), &end);

@@ -24,6 +24,7 @@ struct RenderRequest {
   std::string bands;  // comma-separated
   int max_depth = 0;
   std::string quantity;  // "radiance" or "reflectance"
+  std::string isa;       // Embree's kernels (parse_embree_isa); empty: the scene file's
   int threads = 0;
   bool progress = false;
   std::optional<double> time_s;  // wind time of every tree (SceneOptions::time_s)

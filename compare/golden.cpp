@@ -97,6 +97,7 @@ Image render_scene(const SceneFile& file, const EmbreeScene& embree, int spp, ui
   settings.spp = spp;
   settings.seed = seed;
   settings.progress = false;
+  settings.isa = embree.stats().isa;  // what traced it, for the header (kGoldenIsa for the suite)
   if (adjust) adjust(settings);
   Renderer renderer(file.scene, embree, settings, faults);
   Film film = renderer.make_film();
@@ -115,7 +116,7 @@ CompareOptions golden_compare_options() {
 void update_golden_case(const GoldenCase& c, const GoldenRecord& settings, bool progress) {
   const SceneFile file = load_scene_file(c.scene);
   GoldenRecord g = settings;
-  const EmbreeScene embree(file.scene);
+  const EmbreeScene embree(file.scene, TransportFaults{}, BvhBuild::kThorough, kGoldenIsa);
   Image ref =
       render_scene(file, embree, g.reference_spp, g.reference_seed, [&](RenderSettings& s) { s.progress = progress; });
   const Image det = render_scene(file, embree, g.determinism_spp, g.determinism_seed);
@@ -138,7 +139,7 @@ GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(Rend
   if (modify) modify(file.scene);
   const Image ref = read_exr(c.reference);
   GoldenCheck out;
-  const EmbreeScene embree(file.scene, faults);  // built once for both renders
+  const EmbreeScene embree(file.scene, faults, BvhBuild::kThorough, kGoldenIsa);  // built once for both renders
   out.test = render_scene(file, embree, g.check_spp, g.check_seed, adjust, faults);
   // A reference rendered before an AOV existed is compared on the channels it has; a reference
   // with the position AOV checks it like depth.

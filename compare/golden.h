@@ -10,6 +10,7 @@
 
 #include "compare/image_compare.h"
 #include "core/image.h"
+#include "render/embree_scene.h"
 #include "render/testing/faults.h"
 #include "scenes/scene_file.h"
 
@@ -20,6 +21,11 @@
 #include <vector>
 
 namespace sylva {
+
+// Golden renders run Embree's AVX2 kernels whatever the processor has, so a determinism hash
+// recorded on one machine holds on every x86-64 machine with AVX2 (EmbreeIsa). Settings' own `isa`
+// (a case's scene file) is overridden.
+inline constexpr EmbreeIsa kGoldenIsa = EmbreeIsa::kAvx2;
 
 struct GoldenRecord {
   int reference_spp = 4096;

@@ -407,22 +407,83 @@ BvhBuild bvh_build_for(uint64_t path_samples) {
   return path_samples >= kThoroughFrom ? BvhBuild::kThorough : BvhBuild::kFast;
 }
 
+namespace {
+
+struct IsaName {
+  EmbreeIsa isa;
+  const char* name;
+};
+constexpr IsaName kIsaNames[] = {{EmbreeIsa::kNative, "native"}, {EmbreeIsa::kSse2, "sse2"},
+                                 {EmbreeIsa::kSse42, "sse4.2"},  {EmbreeIsa::kAvx, "avx"},
+                                 {EmbreeIsa::kAvx2, "avx2"},     {EmbreeIsa::kAvx512, "avx512"}};
+
+// The widest set of Embree's kernels this processor runs (Embree's own feature tests).
+EmbreeIsa processor_isa() {
+  __builtin_cpu_init();
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+                    __builtin_cpu_supports("bmi2");
+  if (avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+      __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl"))
+    return EmbreeIsa::kAvx512;
+  if (avx2) return EmbreeIsa::kAvx2;
+  if (__builtin_cpu_supports("avx")) return EmbreeIsa::kAvx;
+  if (__builtin_cpu_supports("sse4.2")) return EmbreeIsa::kSse42;
+  return EmbreeIsa::kSse2;
+}
+
+}  // namespace
+
+EmbreeIsa parse_embree_isa(const std::string& name) {
+  for (const IsaName& n : kIsaNames)
+    if (name == n.name) return n.isa;
+  throw Error(fmt::format(
+      "unknown instruction set '{}': expected \"native\", \"sse2\", \"sse4.2\", \"avx\", \"avx2\" or \"avx512\"",
+      name));
+}
+
+const char* embree_isa_name(EmbreeIsa isa) {
+  for (const IsaName& n : kIsaNames)
+    if (isa == n.isa) return n.name;
+  return "native";
+}
+
+EmbreeIsa resolve_embree_isa(EmbreeIsa requested) {
+  static const EmbreeIsa widest = [] {
+    EmbreeIsa isa = processor_isa();
+    // Embree's own word on the widths it runs: a library built without its AVX-512 (or AVX)
+    // kernels falls back to the next it has.
+    RTCDevice device = rtcNewDevice("verbose=0");
+    if (!device) return isa;
+    if (isa == EmbreeIsa::kAvx512 && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
+      isa = EmbreeIsa::kAvx2;
+    if (isa >= EmbreeIsa::kAvx && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
+      isa = EmbreeIsa::kSse42;
+    rtcReleaseDevice(device);
+    return isa;
+  }();
+  return requested == EmbreeIsa::kNative ? widest : std::min(requested, widest);
+}
+
 EmbreeScene::EmbreeScene(const Scene& scene) : EmbreeScene(scene, TransportFaults{}, BvhBuild::kThorough) {}
 
 EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
     : EmbreeScene(scene, faults, BvhBuild::kThorough) {}
 
-EmbreeScene::EmbreeScene(const Scene& scene, BvhBuild build) : EmbreeScene(scene, TransportFaults{}, build) {}
+EmbreeScene::EmbreeScene(const Scene& scene, BvhBuild build, EmbreeIsa isa)
+    : EmbreeScene(scene, TransportFaults{}, build, isa) {}
 
-EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhBuild build)
+EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhBuild build, EmbreeIsa isa)
     : scene_(&scene), impl_(std::make_unique<Impl>()) {
   const auto start = std::chrono::steady_clock::now();
   g_embree_peak = g_embree_bytes.load();
   const int64_t base_bytes = g_embree_bytes.load();
-  // Capped at AVX2: Embree's AVX-512 kernels round differently, and goldens (determinism hashes)
-  // must reproduce on every x86-64 machine with AVX2. The cap costs 1–3 % here.
-  impl_->device = rtcNewDevice("verbose=0,max_isa=avx2");
+  // Embree takes the processor's widest kernels unless capped (EmbreeIsa: the golden suite caps
+  // them at AVX2 so that its hashes reproduce on every machine with AVX2).
+  const std::string config =
+      isa == EmbreeIsa::kNative ? "verbose=0" : fmt::format("verbose=0,max_isa={}", embree_isa_name(isa));
+  impl_->device = rtcNewDevice(config.c_str());
   if (!impl_->device) throw Error("embree: cannot create device");
+  stats_.isa = resolve_embree_isa(isa);
   rtcSetDeviceErrorFunction(impl_->device, error_callback, nullptr);
   rtcSetDeviceMemoryMonitorFunction(impl_->device, memory_monitor, nullptr);
   RTCDevice device = impl_->device;

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 
 namespace sylva {
 
@@ -55,8 +56,25 @@ bool uses_instance_array(const Scene& scene);
 inline constexpr uint64_t kNativeInstanceBytes = 420;
 inline constexpr uint64_t kArrayInstanceBytes = 150;
 
+// The instruction set of Embree's traversal and intersection kernels. kNative lets Embree take the
+// widest this processor runs, as it does by default; a named one is a cap. Each set's kernels round
+// differently (AVX-512's from AVX2's, for a few rays in 10⁵), so a render's bits are the same on
+// every machine that runs the same set, and the statistics the same everywhere. The golden suite
+// pins kAvx2, so its determinism hashes hold on every x86-64 processor with AVX2
+// (docs/design.md §6, "Embree's instruction set").
+enum class EmbreeIsa { kNative, kSse2, kSse42, kAvx, kAvx2, kAvx512 };
+
+// "native", "sse2", "sse4.2", "avx", "avx2", "avx512" (Embree's own names for its device option
+// max_isa). parse_embree_isa throws sylva::Error naming them for anything else.
+EmbreeIsa parse_embree_isa(const std::string& name);
+const char* embree_isa_name(EmbreeIsa isa);
+// The set Embree runs on this processor for `requested`: the widest it has at most the cap
+// (Embree's kernel choice: AVX-512 needs AVX-512 F, DQ, CD, BW and VL; AVX2 also FMA, BMI1 and BMI2).
+EmbreeIsa resolve_embree_isa(EmbreeIsa requested);
+
 struct EmbreeStats {
-  size_t bvh_bytes = 0;  // peak memory Embree reported through its memory monitor
+  EmbreeIsa isa = EmbreeIsa::kNative;  // the kernels in use (resolve_embree_isa), never kNative
+  size_t bvh_bytes = 0;                // peak memory Embree reported through its memory monitor
   double build_ms = 0;
   size_t triangles = 0, leaf_quads = 0, instances = 0;  // unique geometry
   size_t solids = 0, discs = 0;
@@ -81,8 +99,8 @@ class EmbreeScene {
   explicit EmbreeScene(const Scene& scene);
   // Test seam: the same scene with deliberate faults (render/testing/faults.h).
   EmbreeScene(const Scene& scene, const TransportFaults& faults);
-  EmbreeScene(const Scene& scene, BvhBuild build);
-  EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhBuild build);
+  EmbreeScene(const Scene& scene, BvhBuild build, EmbreeIsa isa = EmbreeIsa::kNative);
+  EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhBuild build, EmbreeIsa isa = EmbreeIsa::kNative);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

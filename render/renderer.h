@@ -44,6 +44,9 @@ struct RenderSettings {
   std::vector<Band> bands;  // at least one
   IntegratorSettings integrator;
   Quantity quantity = Quantity::radiance;
+  // Embree's kernels (EmbreeIsa): the processor's widest unless capped, e.g. for bits that must
+  // match a machine without AVX-512.
+  EmbreeIsa isa = EmbreeIsa::kNative;
   bool progress = true;  // progress bar on stderr (only when stderr is a terminal)
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;

@@ -104,7 +104,7 @@ class SceneParser {
  private:
   void parse_render(const Params& root) {
     const Params* t = root.table("render");
-    t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing"});
+    t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing", "isa"});
     RenderSettings& rs = out_.render;
     rs.width = static_cast<int>(t->integer("width", rs.width, 1, 65536));
     rs.height = static_cast<int>(t->integer("height", rs.height, 1, 65536));
@@ -122,6 +122,13 @@ class SceneParser {
     if (quantity != "radiance" && quantity != "reflectance")
       t->fail("quantity", "quantity must be \"radiance\" or \"reflectance\"");
     rs.quantity = parse_quantity(quantity);
+    if (t->has("isa")) {
+      try {
+        rs.isa = parse_embree_isa(t->string("isa", "native"));
+      } catch (const Error& e) {
+        t->fail("isa", e.what());
+      }
+    }
     const std::string instancing = t->string("instancing", "auto");
     if (instancing == "auto")
       out_.scene.instance_level = InstanceLevel::automatic;
@@ -1618,6 +1625,8 @@ void annotate_render(Image& image, const SceneFile& file, const RenderSettings& 
   image.set_attribute("sylva:scene", file.path.empty() ? "<default scene>" : file.path.filename().string());
   image.set_attribute("sylva:scene_hash", file.content_hash);
   image.set_attribute("sylva:max_depth", std::to_string(settings.integrator.max_depth));
+  // The kernels that traced it: renders agree bit for bit only on the same set (EmbreeIsa).
+  image.set_attribute("sylva:embree_isa", embree_isa_name(resolve_embree_isa(settings.isa)));
   std::string bands;
   for (const Band& b : settings.bands) bands += (bands.empty() ? "" : ",") + b.name;
   image.set_attribute("sylva:bands", bands);

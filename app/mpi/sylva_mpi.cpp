@@ -178,7 +178,7 @@ int run(const MpiOptions& opt, int rank, int ranks) {
   chunk_work({0, ctx.chunks, ctx.split}, s.width, s.height, s.spp);  // throws if a chunk would be empty
   ctx.key = checkpoint_key(ctx.job.file.content_hash, s);
   ctx.job_fields = describe_job(opt.request, ctx.job);
-  const EmbreeScene embree(ctx.job.file.scene, bvh_build_for(s));
+  const EmbreeScene embree(ctx.job.file.scene, bvh_build_for(s), s.isa);
   Renderer renderer(ctx.job.file.scene, embree, s);
   if (rank == 0) return coordinator(renderer, ctx, opt, ranks);
   worker(renderer, ctx);

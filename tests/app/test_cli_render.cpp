@@ -198,6 +198,29 @@ TEST(CliRender, BitIdenticalFilesAtAnyThreadCount) {
   EXPECT_NE(read_text(dir / "t1.exr"), read_text(dir / "s2.exr"));
 }
 
+// --isa caps Embree's kernels: the header names the set that ran, a capped render is bit-identical
+// at any thread count, and it agrees statistically with the processor's widest kernels.
+TEST(CliRender, EmbreeIsaIsRecordedAndAgreesStatistically) {
+  const fs::path dir = fresh_dir("cli_isa");
+  const std::string scene = "render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' --res 40x24 --quiet -o '";
+  for (const char* run : {"n.exr' --spp 64 --seed 1", "c1.exr' --spp 64 --seed 2 --isa sse2 --threads 1",
+                          "c2.exr' --spp 64 --seed 2 --isa sse2 --threads 2"}) {
+    const auto r = run_sylva(scene + (dir / run).string(), dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  const std::string native = read_exr(dir / "n.exr").attribute("sylva:embree_isa");
+  EXPECT_TRUE(native == "sse2" || native == "sse4.2" || native == "avx" || native == "avx2" || native == "avx512")
+      << native;
+  EXPECT_EQ(read_exr(dir / "c1.exr").attribute("sylva:embree_isa"), "sse2");
+  EXPECT_EQ(read_text(dir / "c1.exr"), read_text(dir / "c2.exr"));
+  const auto cmp = run_sylva("compare '" + (dir / "n.exr").string() + "' '" + (dir / "c1.exr").string() + "'", dir);
+  EXPECT_EQ(cmp.exit_code, 0) << cmp.out << cmp.err;
+  const auto bad = run_sylva(scene + (dir / "x.exr").string() + "' --isa avx3", dir);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("--isa"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
+}
+
 TEST(CliRender, InterruptThenResumeEqualsUninterrupted) {
   const fs::path dir = fresh_dir("cli_resume");
   const std::string common = " --res 160x90 --spp 320 --quiet --threads 2";

@@ -2,6 +2,7 @@
 // stop on its blade, whether every leaf of a prototype has one outline (read once per geometry) or
 // each leaf its own (read per leaf).
 
+#include "core/error.h"
 #include "geometry/leaf_shape.h"
 #include "render/embree_scene.h"
 
@@ -89,6 +90,39 @@ TEST(LeafOutlines, MixedOutlinesCutEachLeafByItsOwn) {
   // A corner is blade on the rectangle and a cut-out on the oval beside it.
   EXPECT_TRUE(blocked(embree, 0, 0.03f, 0.03f));
   EXPECT_FALSE(blocked(embree, 1, 0.03f, 0.03f));
+}
+
+// Every instruction set Embree may run (capped at each in turn; the processor's widest at most)
+// cuts the same outlines, on closest-hit and shadow rays.
+TEST(LeafOutlines, EveryEmbreeInstructionSetCutsTheSame) {
+  const std::vector<LeafShape> shapes = {LeafShape::Oval, LeafShape::Maple5, LeafShape::RightTriangle};
+  const Scene scene = scene_of(shapes);
+  for (const EmbreeIsa isa : {EmbreeIsa::kNative, EmbreeIsa::kSse2, EmbreeIsa::kSse42, EmbreeIsa::kAvx,
+                              EmbreeIsa::kAvx2, EmbreeIsa::kAvx512}) {
+    SCOPED_TRACE(embree_isa_name(isa));
+    const EmbreeScene embree(scene, BvhBuild::kFast, isa);
+    EXPECT_EQ(embree.stats().isa, resolve_embree_isa(isa));
+    for (size_t leaf = 0; leaf < shapes.size(); ++leaf) expect_outline(embree, static_cast<int>(leaf), shapes[leaf]);
+  }
+}
+
+TEST(EmbreeIsa, NamesParseAndCapsResolveAtMostTheProcessorsWidest) {
+  const EmbreeIsa native = resolve_embree_isa(EmbreeIsa::kNative);
+  EXPECT_NE(native, EmbreeIsa::kNative);
+  for (const EmbreeIsa isa : {EmbreeIsa::kNative, EmbreeIsa::kSse2, EmbreeIsa::kSse42, EmbreeIsa::kAvx,
+                              EmbreeIsa::kAvx2, EmbreeIsa::kAvx512}) {
+    EXPECT_EQ(parse_embree_isa(embree_isa_name(isa)), isa);
+    if (isa == EmbreeIsa::kNative) continue;
+    EXPECT_LE(resolve_embree_isa(isa), isa) << embree_isa_name(isa);
+    EXPECT_LE(resolve_embree_isa(isa), native) << embree_isa_name(isa);
+  }
+  EXPECT_EQ(resolve_embree_isa(EmbreeIsa::kSse2), EmbreeIsa::kSse2);  // every x86-64 processor has it
+  try {
+    parse_embree_isa("avx3");
+    FAIL() << "accepted avx3";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"avx512\""), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

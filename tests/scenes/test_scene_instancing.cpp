@@ -27,5 +27,20 @@ TEST(SceneInstancing, LevelFromTheRenderTable) {
   }
 }
 
+// [render] isa: Embree's kernels (RenderSettings::isa), wrong names reported at file:line.
+TEST(SceneInstancing, EmbreeIsaFromTheRenderTable) {
+  const char* dir = SYLVA_SOURCE_DIR "/data/examples";
+  EXPECT_EQ(parse_scene("[render]\nspp = 2\n", "d.toml", dir).render.isa, EmbreeIsa::kNative);
+  EXPECT_EQ(parse_scene("[render]\nisa = \"avx2\"\n", "a.toml", dir).render.isa, EmbreeIsa::kAvx2);
+  EXPECT_EQ(parse_scene("[render]\nisa = \"sse4.2\"\n", "s.toml", dir).render.isa, EmbreeIsa::kSse42);
+  try {
+    parse_scene("[render]\nspp = 2\nisa = \"avx3\"\n", "bad.toml", dir);
+    FAIL() << "accepted isa = \"avx3\"";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.toml:3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("\"native\""), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace sylva
