@@ -248,7 +248,8 @@ CommandRun add_render_command(CLI::App& parent) {
   cmd->add_option("--quantity", req.quantity, "Band channels as radiance or reflectance (factor)")
       ->check(CLI::IsMember({"radiance", "reflectance"}));
   cmd->add_option("--isa", req.isa,
-                  "Embree's kernels: native (the processor's widest) or a cap: sse2, sse4.2, avx, avx2, avx512")
+                  "Embree's kernels, at most: sse2, sse4.2, avx, avx2 (default: the same bits on every processor "
+                  "with AVX2), avx512, or native (the processor's widest)")
       ->check(CLI::IsMember({"native", "sse2", "sse4.2", "avx", "avx2", "avx512"}));
   cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes,
                   "Write a checkpoint this often (0 = only on interrupt)")

@@ -477,8 +477,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
   const auto start = std::chrono::steady_clock::now();
   g_embree_peak = g_embree_bytes.load();
   const int64_t base_bytes = g_embree_bytes.load();
-  // Embree takes the processor's widest kernels unless capped (EmbreeIsa: the golden suite caps
-  // them at AVX2 so that its hashes reproduce on every machine with AVX2).
+  // Embree takes the processor's widest kernels unless capped (EmbreeIsa: Sylva caps them at AVX2
+  // unless asked, so that a render's bits reproduce on every machine with AVX2).
   const std::string config =
       isa == EmbreeIsa::kNative ? "verbose=0" : fmt::format("verbose=0,max_isa={}", embree_isa_name(isa));
   impl_->device = rtcNewDevice(config.c_str());

@@ -44,9 +44,9 @@ struct RenderSettings {
   std::vector<Band> bands;  // at least one
   IntegratorSettings integrator;
   Quantity quantity = Quantity::radiance;
-  // Embree's kernels (EmbreeIsa): the processor's widest unless capped, e.g. for bits that must
-  // match a machine without AVX-512.
-  EmbreeIsa isa = EmbreeIsa::kNative;
+  // Embree's kernels (EmbreeIsa): at most AVX2 unless asked, so the bits are the same on every
+  // processor with AVX2.
+  EmbreeIsa isa = EmbreeIsa::kAvx2;
   bool progress = true;  // progress bar on stderr (only when stderr is a terminal)
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;

@@ -124,7 +124,7 @@ class SceneParser {
     rs.quantity = parse_quantity(quantity);
     if (t->has("isa")) {
       try {
-        rs.isa = parse_embree_isa(t->string("isa", "native"));
+        rs.isa = parse_embree_isa(t->string("isa", embree_isa_name(rs.isa)));
       } catch (const Error& e) {
         t->fail("isa", e.what());
       }

@@ -30,8 +30,9 @@ TEST(SceneInstancing, LevelFromTheRenderTable) {
 // [render] isa: Embree's kernels (RenderSettings::isa), wrong names reported at file:line.
 TEST(SceneInstancing, EmbreeIsaFromTheRenderTable) {
   const char* dir = SYLVA_SOURCE_DIR "/data/examples";
-  EXPECT_EQ(parse_scene("[render]\nspp = 2\n", "d.toml", dir).render.isa, EmbreeIsa::kNative);
-  EXPECT_EQ(parse_scene("[render]\nisa = \"avx2\"\n", "a.toml", dir).render.isa, EmbreeIsa::kAvx2);
+  EXPECT_EQ(parse_scene("[render]\nspp = 2\n", "d.toml", dir).render.isa, EmbreeIsa::kAvx2);
+  EXPECT_EQ(parse_scene("[render]\nisa = \"native\"\n", "a.toml", dir).render.isa, EmbreeIsa::kNative);
+  EXPECT_EQ(parse_scene("[render]\nisa = \"avx512\"\n", "b.toml", dir).render.isa, EmbreeIsa::kAvx512);
   EXPECT_EQ(parse_scene("[render]\nisa = \"sse4.2\"\n", "s.toml", dir).render.isa, EmbreeIsa::kSse42);
   try {
     parse_scene("[render]\nspp = 2\nisa = \"avx3\"\n", "bad.toml", dir);
