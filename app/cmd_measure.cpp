@@ -58,6 +58,8 @@ CommandRun add_measure_command(CLI::App& parent) {
   cmd->add_option("--max-depth", req.max_depth, "Maximum path depth")->check(CLI::Range(1, 1024));
   cmd->add_option("--quantity", req.quantity, "BRF columns as reflectance (factor, the default) or radiance")
       ->check(CLI::IsMember({"radiance", "reflectance"}));
+  cmd->add_option("--isa", req.isa, "Embree's kernels, at most (as sylva render --isa; default avx2)")
+      ->check(CLI::IsMember(embree_isa_names()));
   return [opt] {
     if (opt->brf.empty() && opt->flux.empty()) throw Error("measure: give --brf FILE, --flux FILE or both");
     RenderRequest request = opt->request;
@@ -77,7 +79,7 @@ CommandRun add_measure_command(CLI::App& parent) {
     s.threads = job.settings.threads;
     if (!opt->brf.empty() && s.plot.views.empty())
       throw Error(job.file.path.string() + ": --brf needs view directions: [plot] views or principal_plane");
-    const EmbreeScene embree(scene);
+    const EmbreeScene embree(scene, BvhBuild::kThorough, job.settings.isa);
     if (!opt->brf.empty()) {
       const auto start = std::chrono::steady_clock::now();
       const BrfTable t = measure_brf(scene, embree, s);

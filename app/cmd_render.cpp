@@ -250,7 +250,7 @@ CommandRun add_render_command(CLI::App& parent) {
   cmd->add_option("--isa", req.isa,
                   "Embree's kernels, at most: sse2, sse4.2, avx, avx2 (default: the same bits on every processor "
                   "with AVX2), avx512, or native (the processor's widest)")
-      ->check(CLI::IsMember({"native", "sse2", "sse4.2", "avx", "avx2", "avx512"}));
+      ->check(CLI::IsMember(embree_isa_names()));
   cmd->add_option("--checkpoint-minutes", opt->checkpoint_minutes,
                   "Write a checkpoint this often (0 = only on interrupt)")
       ->check(kFiniteNumber & CLI::Range(0.0, 1e6));

@@ -441,6 +441,12 @@ EmbreeIsa parse_embree_isa(const std::string& name) {
       name));
 }
 
+std::vector<std::string> embree_isa_names() {
+  std::vector<std::string> names;
+  for (const IsaName& n : kIsaNames) names.emplace_back(n.name);
+  return names;
+}
+
 const char* embree_isa_name(EmbreeIsa isa) {
   for (const IsaName& n : kIsaNames)
     if (isa == n.isa) return n.name;

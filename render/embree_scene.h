@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace sylva {
 
@@ -69,6 +70,7 @@ enum class EmbreeIsa { kNative, kSse2, kSse42, kAvx, kAvx2, kAvx512 };
 // max_isa). parse_embree_isa throws sylva::Error naming them for anything else.
 EmbreeIsa parse_embree_isa(const std::string& name);
 const char* embree_isa_name(EmbreeIsa isa);
+std::vector<std::string> embree_isa_names();  // every name parse_embree_isa takes (command lines' --isa)
 // The set Embree runs on this processor for `requested`: the widest it has at most the cap
 // (Embree's kernel choice: AVX-512 needs AVX-512 F, DQ, CD, BW and VL; AVX2 also FMA, BMI1 and BMI2).
 EmbreeIsa resolve_embree_isa(EmbreeIsa requested);

@@ -212,7 +212,7 @@ int main(int argc, char** argv) {
   app.add_option("--quantity", req.quantity, "Band channels as radiance or reflectance (factor)")
       ->check(CLI::IsMember({"radiance", "reflectance"}));
   app.add_option("--isa", req.isa, "Embree's kernels, at most (as sylva render --isa; default avx2)")
-      ->check(CLI::IsMember({"native", "sse2", "sse4.2", "avx", "avx2", "avx512"}));
+      ->check(CLI::IsMember(sylva::embree_isa_names()));
   app.add_option("--split", opt.split, "Chunks are bands of rows (tiles, default) or sample ranges (samples)")
       ->check(CLI::IsMember({"samples", "tiles"}));
   app.add_option("--chunks", opt.chunks, "Number of chunks handed out (default: 8 per rank)")
