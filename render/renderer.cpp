@@ -61,15 +61,28 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
       weight_integrals_.push_back(static_cast<float>(b.weights[c].integral()));
     }
   if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
-  interleaved_weights_.resize(static_cast<size_t>(kLambdaSamples) * weights.size());
+  channel_blocks_ = (weights.size() + 3) / 4;
+  interleaved_weights_.assign(static_cast<size_t>(kLambdaSamples) * channel_blocks_, Vec4(0.0f));
   for (int i = 0; i < kLambdaSamples; ++i)
-    for (size_t c = 0; c < weights.size(); ++c) interleaved_weights_[i * weights.size() + c] = (*weights[c])[i];
+    for (size_t c = 0; c < weights.size(); ++c)
+      interleaved_weights_[i * channel_blocks_ + c / 4][static_cast<int>(c % 4)] = (*weights[c])[i];
   environment_ = Environment(scene_.sun, scene_.sky);
   irradiance_ = channel_irradiance(environment_, settings_.bands);
   for (size_t c = 0; c < channels_.size(); ++c) {
     if (settings_.quantity == Quantity::reflectance && !(irradiance_[c] > 0))
       throw Error("reflectance: channel " + channels_[c] + " receives no irradiance from the sun and sky");
     scale_.push_back(settings_.quantity == Quantity::reflectance ? kPi / irradiance_[c] : 1.0f);
+  }
+  scale_blocks_.assign(channel_blocks_, Vec4(0.0f));
+  albedo_norm_blocks_.assign(channel_blocks_, Vec4(1.0f));
+  has_albedo_blocks_.assign(channel_blocks_, glm::bvec4(false));
+  for (size_t c = 0; c < channels_.size(); ++c) {
+    const int lane = static_cast<int>(c % 4);
+    scale_blocks_[c / 4][lane] = scale_[c];
+    if (weight_integrals_[c] != 0) {
+      albedo_norm_blocks_[c / 4][lane] = kLambdaCount * weight_integrals_[c];
+      has_albedo_blocks_[c / 4][lane] = true;
+    }
   }
   integrator_ = std::make_unique<Integrator>(scene_, embree_, environment_, settings_.integrator, faults);
   camera_ = Camera(scene_.camera, settings_.width, settings_.height);
@@ -137,37 +150,41 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
 
 void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L,
                           const FirstHit& first) const {
-  const size_t nc = channels_.size();
-  float values[2 * 64];
   // A non-finite radiance never reaches the film; such a sample counts as black.
-  for (int i = 0; i < kLambdaCount; ++i)
-    if (!std::isfinite(L[i])) L = SampledSpectrum(0.0f);
-  // DenseSpectrum::eval of each channel's weight, on the interleaved table.
-  const float* w0[kLambdaCount];
+  bool finite = true;
+  for (int i = 0; i < kLambdaCount; ++i) finite &= std::isfinite(L[i]);
+  if (!finite) L = SampledSpectrum(0.0f);
+  // DenseSpectrum::eval of each channel's weight, on the interleaved table, four channels at a
+  // time: each channel's sums in the same order as channel by channel (same bits).
+  const size_t nb = channel_blocks_;
+  const Vec4* w0[kLambdaCount];
   float f[kLambdaCount];
   for (int i = 0; i < kLambdaCount; ++i) {
     const GridPosition g = grid_position(wl.lambda_nm[i]);
-    w0[i] = &interleaved_weights_[static_cast<size_t>(g.index) * nc];
+    w0[i] = &interleaved_weights_[static_cast<size_t>(g.index) * nb];
     f[i] = g.fraction;
   }
-  // Wavelength by wavelength, each channel's sums in the same order as channel by channel, so the
-  // compiler can run the channels side by side (same bits).
-  float* v = values;
-  float* a = values + nc;
-  std::fill_n(values, 2 * nc, 0.0f);
+  Vec4 v[16], a[16];  // at most 64 channels (the constructor checks)
+  for (size_t b = 0; b < nb; ++b) v[b] = a[b] = Vec4(0.0f);
   for (int i = 0; i < kLambdaCount; ++i) {
-    const float* lo = w0[i];
-    const float* hi = w0[i] + nc;
-    const float fi = f[i], pdf = wl.pdf[i], li = L[i], ai = first.albedo[i];
-    for (size_t c = 0; c < nc; ++c) {
-      const float w = (lo[c] + fi * (hi[c] - lo[c])) / pdf;
-      v[c] += li * w;
-      a[c] += ai * w;
+    const Vec4* lo = w0[i];
+    const Vec4* hi = w0[i] + nb;
+    const Vec4 fi(f[i]), pdf(wl.pdf[i]), li(L[i]), ai(first.albedo[i]);
+    for (size_t b = 0; b < nb; ++b) {
+      const Vec4 w = (lo[b] + fi * (hi[b] - lo[b])) / pdf;
+      v[b] += li * w;
+      a[b] += ai * w;
     }
   }
-  for (size_t c = 0; c < nc; ++c) {
-    v[c] = v[c] / kLambdaCount * scale_[c];
-    a[c] = weight_integrals_[c] != 0 ? a[c] / (kLambdaCount * weight_integrals_[c]) : 0.0f;
+  const size_t nc = channels_.size();
+  float values[2 * 64];
+  for (size_t b = 0; b < nb; ++b) {
+    const Vec4 vb = v[b] / static_cast<float>(kLambdaCount) * scale_blocks_[b];
+    const Vec4 ab = a[b] / albedo_norm_blocks_[b];
+    for (int k = 0; k < 4 && 4 * b + k < nc; ++k) {
+      values[4 * b + k] = vb[k];
+      values[nc + 4 * b + k] = select(has_albedo_blocks_[b][k], ab[k], 0.0f);
+    }
   }
   film.add_sample(x, y, values);
 }

@@ -150,12 +150,18 @@ class Renderer {
   Camera camera_;
   WavelengthSampler wavelengths_;
   std::vector<std::string> channels_;  // radiance channel names, band after band
-  // w_c(λ) per radiance channel on the 1 nm grid, the channels interleaved ([grid index][channel]):
+  // The radiance channels in blocks of four, the last padded with zeros: add_sample weighs a
+  // sample into four channels per vector operation (bench/README.md, "Four channels at a time").
+  size_t channel_blocks_ = 0;
+  // w_c(λ) per radiance channel on the 1 nm grid, the channels interleaved ([grid index][block]):
   // a sample's weights for all channels at one wavelength are one or two cache lines, not one each.
-  std::vector<float> interleaved_weights_;
+  std::vector<Vec4> interleaved_weights_;
   std::vector<float> weight_integrals_;  // ∫ w_c dλ, to normalise the albedo AOV
   std::vector<float> irradiance_;        // E_c per radiance channel
   std::vector<float> scale_;             // per radiance channel: 1, or π / E_c for reflectance
+  // Per block: scale_, kLambdaCount · ∫ w_c dλ (1 where the integral is 0) and whether it is not 0.
+  std::vector<Vec4> scale_blocks_, albedo_norm_blocks_;
+  std::vector<glm::bvec4> has_albedo_blocks_;
 };
 
 }  // namespace sylva
