@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <immintrin.h>
 
 namespace sylva {
 
@@ -189,37 +190,59 @@ WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
 }
 
 SampledWavelengths WavelengthSampler::sample(float u) const {
-  SampledWavelengths wl;
-  const int n = static_cast<int>(cdf_.size()) - 1;
-  // The four cells first, so that their loads overlap, then each wavelength without a branch on
-  // them: the bin holding u_k is the cell's first or second, or (rarely) one further on.
-  float uk[kLambdaCount];
-  const Cell* cell[kLambdaCount];
-  for (int k = 0; k < kLambdaCount; ++k) {
-    const float v = u + static_cast<float>(k) / kLambdaCount;
-    uk[k] = select(v >= 1.0f, v - 1.0f, v);
-    cell[k] = &cells_[std::min(static_cast<int>(uk[k] * kCells), kCells - 1)];
-  }
-  for (int k = 0; k < kLambdaCount; ++k) {
-    const Cell& c = *cell[k];
-    const float cdf0 = c.cdf0, cdf1 = c.cdf1, end1 = c.end1;
-    const bool second = uk[k] >= cdf1;
-    int bin = second ? c.bin1 : c.bin0;
-    float lo = select(second, cdf1, cdf0), hi = select(second, end1, cdf1);
-    if (uk[k] >= hi) [[unlikely]] {
-      bin = c.bin1 + 1;
-      while (bin + 1 < n && cdf_[bin + 1] <= uk[k]) ++bin;
-      lo = cdf_[bin], hi = cdf_[bin + 1];
+  // The four hero wavelengths side by side in one SSE register each step (bench/README.md, "Four
+  // wavelengths at a time"): the same operations as one wavelength at a time, so the same bits.
+  // u_k = u + k/4, wrapped into [0, 1).
+  const __m128 v = _mm_add_ps(_mm_set1_ps(u), _mm_setr_ps(0.0f, 0.25f, 0.5f, 0.75f));
+  const __m128 wrap = _mm_cmpge_ps(v, _mm_set1_ps(1.0f));
+  const __m128 uk = _mm_or_ps(_mm_and_ps(wrap, _mm_sub_ps(v, _mm_set1_ps(1.0f))), _mm_andnot_ps(wrap, v));
+  // Each u_k's cell (u_k < 1, so the index stays below kCells), loaded together so the misses
+  // overlap, then transposed: cdf0, cdf1, end1 and the two bins of each wavelength's cell.
+  alignas(16) int32_t index[kLambdaCount];
+  _mm_store_si128(reinterpret_cast<__m128i*>(index), _mm_cvttps_epi32(_mm_mul_ps(uk, _mm_set1_ps(kCells))));
+  __m128 cdf0 = _mm_loadu_ps(&cells_[index[0]].cdf0);
+  __m128 cdf1 = _mm_loadu_ps(&cells_[index[1]].cdf0);
+  __m128 end1 = _mm_loadu_ps(&cells_[index[2]].cdf0);
+  __m128 bins = _mm_loadu_ps(&cells_[index[3]].cdf0);
+  _MM_TRANSPOSE4_PS(cdf0, cdf1, end1, bins);
+  // The bin holding u_k is the cell's first or its second (bin0 in the low, bin1 in the high half
+  // of the last word).
+  const __m128 second = _mm_cmpge_ps(uk, cdf1);
+  const __m128i bin_pair = _mm_castps_si128(bins);
+  const __m128i bin_mask = _mm_castps_si128(second);
+  const __m128i bin = _mm_or_si128(_mm_and_si128(bin_mask, _mm_srli_epi32(bin_pair, 16)),
+                                   _mm_andnot_si128(bin_mask, _mm_and_si128(bin_pair, _mm_set1_epi32(0xffff))));
+  __m128 lo = _mm_or_ps(_mm_and_ps(second, cdf1), _mm_andnot_ps(second, cdf0));
+  __m128 hi = _mm_or_ps(_mm_and_ps(second, end1), _mm_andnot_ps(second, cdf1));
+  alignas(16) int32_t bin_k[kLambdaCount];
+  _mm_store_si128(reinterpret_cast<__m128i*>(bin_k), bin);
+  if (_mm_movemask_ps(_mm_cmpge_ps(uk, hi))) [[unlikely]] {
+    // Beyond both (a cell over three or more bins): search the CDF from the cell's second bin on.
+    alignas(16) float u_k[kLambdaCount], lo_k[kLambdaCount], hi_k[kLambdaCount];
+    _mm_store_ps(u_k, uk);
+    _mm_store_ps(lo_k, lo);
+    _mm_store_ps(hi_k, hi);
+    const int n = static_cast<int>(cdf_.size()) - 1;
+    for (int k = 0; k < kLambdaCount; ++k) {
+      if (!(u_k[k] >= hi_k[k])) continue;
+      int i = cells_[index[k]].bin1 + 1;
+      while (i + 1 < n && cdf_[i + 1] <= u_k[k]) ++i;
+      bin_k[k] = i, lo_k[k] = cdf_[i], hi_k[k] = cdf_[i + 1];
     }
-    const float mass = hi - lo;  // > 0: lo ≤ u_k < hi
-    const float du = std::clamp((uk[k] - lo) / mass, 0.0f, 1.0f);
-    // lo_nm + bin is a whole number of nm, exact in float; λ stays below the bin's upper edge, so
-    // pdf(λ) finds this bin.
-    const float edge = lo_nm_ + static_cast<float>(bin);
-    const float below_next = std::bit_cast<float>(std::bit_cast<uint32_t>(edge + 1.0f) - 1u);
-    wl.lambda_nm[k] = std::min(edge + du, below_next);
-    wl.pdf[k] = mass;  // per nm: the bins are 1 nm wide
+    lo = _mm_load_ps(lo_k);
+    hi = _mm_load_ps(hi_k);
   }
+  const __m128 mass = _mm_sub_ps(hi, lo);  // > 0: lo ≤ u_k < hi
+  const __m128 du = _mm_min_ps(_mm_max_ps(_mm_setzero_ps(), _mm_div_ps(_mm_sub_ps(uk, lo), mass)), _mm_set1_ps(1.0f));
+  // lo_nm + bin is a whole number of nm, exact in float; λ stays below the bin's upper edge, so
+  // pdf(λ) finds this bin.
+  const __m128 edge = _mm_add_ps(_mm_set1_ps(lo_nm_), _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<__m128i*>(bin_k))));
+  const __m128 below_next =
+      _mm_castsi128_ps(_mm_sub_epi32(_mm_castps_si128(_mm_add_ps(edge, _mm_set1_ps(1.0f))), _mm_set1_epi32(1)));
+  SampledWavelengths wl;
+  // std::min(edge + du, below_next): below_next where it is less, as minps(below_next, x) gives.
+  _mm_storeu_ps(&wl.lambda_nm[0], _mm_min_ps(below_next, _mm_add_ps(edge, du)));
+  _mm_storeu_ps(&wl.pdf[0], mass);  // per nm: the bins are 1 nm wide
   return wl;
 }
 
