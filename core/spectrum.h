@@ -7,6 +7,8 @@
 
 #include "core/math.h"
 
+#include <immintrin.h>
+
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -48,6 +50,30 @@ inline GridPosition grid_position(float lambda_nm) {
   const int i = std::min(static_cast<int>(x), kLambdaSamples - 2);
   return {i, x - static_cast<float>(i)};
 }
+// grid_position of the four carried wavelengths, computed side by side (the same values): every
+// spectral lookup of a path vertex starts here (bench/README.md, "Four wavelengths at a time").
+struct GridPositions {
+  alignas(16) int32_t index[kLambdaCount];
+  SampledSpectrum fraction;
+};
+inline GridPositions grid_positions(const SampledWavelengths& wl) {
+  const __m128 x = _mm_min_ps(_mm_max_ps(_mm_setzero_ps(), _mm_sub_ps(_mm_loadu_ps(&wl.lambda_nm[0]),
+                                                                       _mm_set1_ps(kLambdaMin))),
+                              _mm_set1_ps(static_cast<float>(kLambdaSamples - 1)));
+  // x ≥ 0, so truncating min(x, n − 2) is min(truncated x, n − 2).
+  const __m128i i = _mm_cvttps_epi32(_mm_min_ps(x, _mm_set1_ps(static_cast<float>(kLambdaSamples - 2))));
+  GridPositions g;
+  _mm_store_si128(reinterpret_cast<__m128i*>(g.index), i);
+  _mm_storeu_ps(&g.fraction[0], _mm_sub_ps(x, _mm_cvtepi32_ps(i)));
+  return g;
+}
+// The lerp of grid values at the four positions: values[i] + f · (values[i + 1] − values[i]).
+inline SampledSpectrum grid_lerp(const float* values, const GridPositions& g) {
+  const SampledSpectrum a(values[g.index[0]], values[g.index[1]], values[g.index[2]], values[g.index[3]]);
+  const SampledSpectrum b(values[g.index[0] + 1], values[g.index[1] + 1], values[g.index[2] + 1],
+                          values[g.index[3] + 1]);
+  return a + g.fraction * (b - a);
+}
 
 class DenseSpectrum {
  public:
@@ -62,9 +88,8 @@ class DenseSpectrum {
     const auto [i, f] = grid_position(lambda_nm);
     return values_[i] + f * (values_[i + 1] - values_[i]);
   }
-  SampledSpectrum eval(const SampledWavelengths& wl) const {
-    return {eval(wl.lambda_nm.x), eval(wl.lambda_nm.y), eval(wl.lambda_nm.z), eval(wl.lambda_nm.w)};
-  }
+  SampledSpectrum eval(const SampledWavelengths& wl) const { return eval(grid_positions(wl)); }
+  SampledSpectrum eval(const GridPositions& g) const { return grid_lerp(values_.data(), g); }
 
   // ∫ value dλ over the grid (trapezoid, nm).
   double integral() const;

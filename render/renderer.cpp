@@ -157,19 +157,13 @@ void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl
   // DenseSpectrum::eval of each channel's weight, on the interleaved table, four channels at a
   // time: each channel's sums in the same order as channel by channel (same bits).
   const size_t nb = channel_blocks_;
-  const Vec4* w0[kLambdaCount];
-  float f[kLambdaCount];
-  for (int i = 0; i < kLambdaCount; ++i) {
-    const GridPosition g = grid_position(wl.lambda_nm[i]);
-    w0[i] = &interleaved_weights_[static_cast<size_t>(g.index) * nb];
-    f[i] = g.fraction;
-  }
+  const GridPositions g = grid_positions(wl);
   Vec4 v[16], a[16];  // at most 64 channels (the constructor checks)
   for (size_t b = 0; b < nb; ++b) v[b] = a[b] = Vec4(0.0f);
   for (int i = 0; i < kLambdaCount; ++i) {
-    const Vec4* lo = w0[i];
-    const Vec4* hi = w0[i] + nb;
-    const Vec4 fi(f[i]), pdf(wl.pdf[i]), li(L[i]), ai(first.albedo[i]);
+    const Vec4* lo = &interleaved_weights_[static_cast<size_t>(g.index[i]) * nb];
+    const Vec4* hi = lo + nb;
+    const Vec4 fi(g.fraction[i]), pdf(wl.pdf[i]), li(L[i]), ai(first.albedo[i]);
     for (size_t b = 0; b < nb; ++b) {
       const Vec4 w = (lo[b] + fi * (hi[b] - lo[b])) / pdf;
       v[b] += li * w;

@@ -58,14 +58,16 @@ MaterialLobes::MaterialLobes(const std::vector<Material>& materials)
 void MaterialLobes::lobes(uint32_t material, const SampledWavelengths& wl, bool front, SampledSpectrum& reflect,
                           SampledSpectrum& transmit) const {
   const GridLobes* grid = &table_[(2 * static_cast<size_t>(material) + (front ? 0 : 1)) * kLambdaSamples];
-  for (int k = 0; k < kLambdaCount; ++k) {
-    const auto [i, f] = grid_position(wl.lambda_nm[k]);
-    const GridLobes& a = grid[i];
-    const GridLobes& b = grid[i + 1];
-    // DenseSpectrum::eval's lerp.
-    reflect[k] = a.reflect + f * (b.reflect - a.reflect);
-    transmit[k] = a.transmit + f * (b.transmit - a.transmit);
-  }
+  const GridPositions g = grid_positions(wl);
+  const GridLobes* a[kLambdaCount];
+  for (int k = 0; k < kLambdaCount; ++k) a[k] = grid + g.index[k];
+  // DenseSpectrum::eval's lerp, four wavelengths at a time.
+  const SampledSpectrum r0(a[0][0].reflect, a[1][0].reflect, a[2][0].reflect, a[3][0].reflect);
+  const SampledSpectrum r1(a[0][1].reflect, a[1][1].reflect, a[2][1].reflect, a[3][1].reflect);
+  const SampledSpectrum t0(a[0][0].transmit, a[1][0].transmit, a[2][0].transmit, a[3][0].transmit);
+  const SampledSpectrum t1(a[0][1].transmit, a[1][1].transmit, a[2][1].transmit, a[3][1].transmit);
+  reflect = r0 + g.fraction * (r1 - r0);
+  transmit = t0 + g.fraction * (t1 - t0);
 }
 
 Bsdf::Bsdf(const Material& material, const SampledWavelengths& wl, bool front) {
