@@ -74,6 +74,25 @@ struct PathState {
   PathState() = default;
   PathState(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit)
       : ray(camera_ray), wl(wavelengths), rng(&random), first(first_hit) {}
+  // The same as assigning PathState(camera_ray, ...), written in place: a temporary's copy would
+  // reload its fields right after storing them at other offsets, which the processor cannot
+  // forward (a stall per path; bench/README.md, "Four wavelengths at a time").
+  void start(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit) {
+    ray = camera_ray;
+    wl = wavelengths;
+    rng = &random;
+    first = first_hit;
+    L = SampledSpectrum(0.0f);
+    beta = SampledSpectrum(1.0f);
+    haze_ratio = SampledSpectrum(1.0f);
+    prev_pdf = 0.0f;
+    sigma_t = 0.0f;
+    medium_material = 0;
+    crossings = 0;
+    depth = 0;
+    alive = true;
+    shadow.kind = ShadowQuery::Kind::kNone;
+  }
 
   Ray ray;  // the next ray to trace
   SampledWavelengths wl;
@@ -92,6 +111,9 @@ struct PathState {
   bool alive = true;
   ShadowQuery shadow;  // this bounce's next-event shadow ray, if any
 };
+// start() sets every field but the shadow query's payload (read only once its kind is set): a field
+// added to PathState must be added there too.
+static_assert(sizeof(PathState) == 240, "PathState::start() must set every field");
 
 class Integrator {
  public:

@@ -141,7 +141,7 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
       const Vec2 lens = uniform2(rng);
       const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
       firsts[k] = FirstHit{};
-      paths[k] = PathState(camera_.generate_ray(film_pos, lens), wl, rng, &firsts[k]);
+      paths[k].start(camera_.generate_ray(film_pos, lens), wl, rng, &firsts[k]);
     }
     integrator_->trace_paths({paths, static_cast<size_t>(n)}, rays);
     for (int k = 0; k < n; ++k) add_sample(film, x, y, paths[k].wl, paths[k].L, firsts[k]);
