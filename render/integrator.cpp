@@ -1,6 +1,7 @@
 #include "render/integrator.h"
 
 #include "core/error.h"
+#include "core/simd.h"
 #include "render/materials/leaf_medium.h"
 #include "render/materials/material.h"
 
@@ -95,23 +96,20 @@ SampledSpectrum Integrator::sky_transmittance(const Vec3& o, const Vec3& d, cons
 SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) const {
   const Instance& inst = scene_.instances[hit.instance];
   const Prototype& proto = scene_.prototypes[inst.prototype];
-  const Mat3 nfo = normal_from_object(inst);
   SurfaceInteraction si;
   si.instance = hit.instance;
   si.prototype = inst.prototype;
   si.primitive = hit.primitive;
   si.leaf = hit.leaf;
-  Vec3 p_obj, ng_obj, ns_obj(0.0f);
-  bool shading_normals = false;  // ns_obj differs from ng_obj (a mesh with vertex normals)
   if (hit.solid) {
     // A half-space solid (Fournier–Grindal): the point on the world ray, its texture looked up in
     // the crown's own coordinates (§4) to pick the palette material.
     si.p = ray.origin + hit.t * ray.direction;
-    p_obj = Vec3(glm::inverse(inst.world_from_object) * Vec4(si.p, 1.0f));
+    const Vec3 p_obj = Vec3(glm::inverse(inst.world_from_object) * Vec4(si.p, 1.0f));
     const std::vector<uint32_t>& palette = proto.solid_palettes[hit.primitive];
     const HalfSpaceSolid& solid = proto.solids[hit.primitive];
     si.material = palette[solid_palette_index(solid.colouring, p_obj, static_cast<uint32_t>(palette.size()))];
-    si.ng = glm::normalize(nfo * hit.normal);
+    si.ng = glm::normalize(normal_from_object(inst) * hit.normal);
     si.ns = si.ng;
     return si;
   }
@@ -119,7 +117,7 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
     // A grass blade: a thin two-sided leaf (reflectance and transmittance) at the hit point.
     si.p = ray.origin + hit.t * ray.direction;
     si.material = proto.curve_material;
-    const Vec3 n = nfo * hit.normal;
+    const Vec3 n = normal_from_object(inst) * hit.normal;
     const float ln = glm::length(n);
     si.ng = ln > 0 ? n / ln : -ray.direction;
     si.ns = si.ng;
@@ -128,48 +126,63 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
   if (hit.disc) {
     // An exact leaf disc: the point on the world ray, the disc's normal as its upper side.
     si.p = ray.origin + hit.t * ray.direction;
-    si.ng = glm::normalize(nfo * proto.discs.normal[hit.primitive]);
+    si.ng = glm::normalize(normal_from_object(inst) * proto.discs.normal[hit.primitive]);
     si.ns = si.ng;
     si.material = proto.disc_material;
     si.leaf = true;
     return si;
   }
+  // Leaf quads and mesh triangles, the hits nearly every path meets: GLM's arithmetic in SSE
+  // registers (core/simd.h: the same operations in the same order, so the same bits).
+  using namespace simd;
+  // normal_from_object(inst): the cofactors of the linear part, signed by its determinant.
+  const Columns3 m = linear_part(inst.world_from_object);
+  Columns3 nfo{cross(m.c1, m.c2), cross(m.c2, m.c0), cross(m.c0, m.c1)};
+  if (dot(m.c0, nfo.c0) < 0) {
+    const __m128 sign = splat(-0.0f);
+    nfo = {_mm_xor_ps(nfo.c0, sign), _mm_xor_ps(nfo.c1, sign), _mm_xor_ps(nfo.c2, sign)};
+  }
+  __m128 p_obj, ng_obj, ns_obj = _mm_setzero_ps();
+  bool shading_normals = false;  // ns_obj differs from ng_obj (a mesh with vertex normals)
   if (hit.leaf) {
     const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
     // Embree's quad parametrisation: triangle (c0,c1,c3) weighted (1−u−v, u, v) for u+v <= 1,
     // (c2,c3,c1) weighted (u+v−1, 1−u, 1−v) beyond. Which half a ray meets is random: the corners
     // and weights are selected, not branched on (the same arithmetic either way).
     const bool far = hit.u + hit.v > 1.0f;
-    const Vec3& a = far ? c[2] : c[0];
-    const Vec3& b = far ? c[3] : c[1];
-    const Vec3& d = far ? c[1] : c[3];
+    const __m128 a = load(far ? c[2] : c[0]);
+    const __m128 b = load(far ? c[3] : c[1]);
+    const __m128 d = load(far ? c[1] : c[3]);
     const float wa = select(far, hit.u + hit.v - 1.0f, 1.0f - hit.u - hit.v);
     const float wb = select(far, 1.0f - hit.u, hit.u), wd = select(far, 1.0f - hit.v, hit.v);
-    p_obj = wa * a + wb * b + wd * d;
-    ng_obj = glm::cross(b - a, d - a);
+    p_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(splat(wa), a), _mm_mul_ps(splat(wb), b)), _mm_mul_ps(splat(wd), d));
+    ng_obj = cross(_mm_sub_ps(b, a), _mm_sub_ps(d, a));
     si.material = proto.leaf_material;
     if (!proto.leaves.stem.empty()) si.stem = proto.leaves.stem[hit.primitive];
   } else {
-    const TriangleMesh& m = proto.triangles;
-    const glm::uvec3 t = m.triangles[hit.primitive];
-    const float b0 = 1.0f - hit.u - hit.v;
-    p_obj = b0 * m.positions[t.x] + hit.u * m.positions[t.y] + hit.v * m.positions[t.z];
-    ng_obj = glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]);
-    shading_normals = !m.normals.empty();
-    if (shading_normals) ns_obj = b0 * m.normals[t.x] + hit.u * m.normals[t.y] + hit.v * m.normals[t.z];
+    const TriangleMesh& mesh = proto.triangles;
+    const glm::uvec3 t = mesh.triangles[hit.primitive];
+    const __m128 b0 = splat(1.0f - hit.u - hit.v), b1 = splat(hit.u), b2 = splat(hit.v);
+    const __m128 p0 = load(mesh.positions[t.x]), p1 = load(mesh.positions[t.y]), p2 = load(mesh.positions[t.z]);
+    p_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(b0, p0), _mm_mul_ps(b1, p1)), _mm_mul_ps(b2, p2));
+    ng_obj = cross(_mm_sub_ps(p1, p0), _mm_sub_ps(p2, p0));
+    shading_normals = !mesh.normals.empty();
+    if (shading_normals)
+      ns_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(b0, load(mesh.normals[t.x])), _mm_mul_ps(b1, load(mesh.normals[t.y]))),
+                          _mm_mul_ps(b2, load(mesh.normals[t.z])));
     si.material = proto.triangle_material;
   }
-  si.p = Vec3(inst.world_from_object * Vec4(p_obj, 1.0f));
-  si.ng = nfo * ng_obj;
-  const float lg = glm::length(si.ng);
-  si.ng = lg > 0 ? si.ng / lg : -ray.direction;
+  si.p = store(transform_point(inst.world_from_object, p_obj));
+  const __m128 ng = transform(nfo, ng_obj);
+  const float lg = std::sqrt(dot(ng, ng));  // glm::length
+  si.ng = lg > 0 ? store(_mm_div_ps(ng, splat(lg))) : -ray.direction;
   if (!shading_normals) {
     si.ns = si.ng;  // what the lines below give for ns_obj = ng_obj, without computing it twice
     return si;
   }
-  si.ns = nfo * ns_obj;
-  const float ls = glm::length(si.ns);
-  si.ns = ls > 0 ? si.ns / ls : si.ng;
+  const __m128 ns = transform(nfo, ns_obj);
+  const float ls = std::sqrt(dot(ns, ns));
+  si.ns = ls > 0 ? store(_mm_div_ps(ns, splat(ls))) : si.ng;
   if (glm::dot(si.ns, si.ng) < 0) si.ns = -si.ns;
   return si;
 }
