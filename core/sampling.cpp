@@ -6,17 +6,6 @@
 
 namespace sylva {
 
-Vec2 sample_uniform_disk(Vec2 u) {
-  const Vec2 o = 2.0f * u - Vec2(1.0f);
-  if (o.x == 0 && o.y == 0) return Vec2(0.0f);
-  // θ = (π/4)·(o.y/o.x), or π/2 − (π/4)·(o.x/o.y): both from sin and cos of an angle in [−π/4, π/4].
-  // Which of the two is a random choice: selected, not branched on.
-  const bool wide = std::abs(o.x) > std::abs(o.y);
-  const float r = select(wide, o.x, o.y);
-  const SinCos sc = sincos_quarter((kPi / 4) * (select(wide, o.y, o.x) / r));
-  return r * Vec2(select(wide, sc.cos, sc.sin), select(wide, sc.sin, sc.cos));
-}
-
 float Distribution1D::tabulate(const float* weights, int n, DistributionBin* bins, uint32_t* guide) {
   double acc = 0;
   std::vector<double> cdf(n + 1, 0.0);

@@ -55,59 +55,15 @@ MaterialLobes::MaterialLobes(const std::vector<Material>& materials)
     }
 }
 
-void MaterialLobes::lobes(uint32_t material, const SampledWavelengths& wl, bool front, SampledSpectrum& reflect,
-                          SampledSpectrum& transmit) const {
-  const GridLobes* grid = &table_[(2 * static_cast<size_t>(material) + (front ? 0 : 1)) * kLambdaSamples];
-  const GridPositions g = grid_positions(wl);
-  const GridLobes* a[kLambdaCount];
-  for (int k = 0; k < kLambdaCount; ++k) a[k] = grid + g.index[k];
-  // DenseSpectrum::eval's lerp, four wavelengths at a time.
-  const SampledSpectrum r0(a[0][0].reflect, a[1][0].reflect, a[2][0].reflect, a[3][0].reflect);
-  const SampledSpectrum r1(a[0][1].reflect, a[1][1].reflect, a[2][1].reflect, a[3][1].reflect);
-  const SampledSpectrum t0(a[0][0].transmit, a[1][0].transmit, a[2][0].transmit, a[3][0].transmit);
-  const SampledSpectrum t1(a[0][1].transmit, a[1][1].transmit, a[2][1].transmit, a[3][1].transmit);
-  reflect = r0 + g.fraction * (r1 - r0);
-  transmit = t0 + g.fraction * (t1 - t0);
-}
 
 Bsdf::Bsdf(const Material& material, const SampledWavelengths& wl, bool front) {
   std::visit([&](const auto& m) { m.lobes(wl, front, reflect_, transmit_); }, material);
   select_lobes();
 }
 
-Bsdf::Bsdf(const MaterialLobes& table, uint32_t material, const SampledWavelengths& wl, bool front) {
-  table.lobes(material, wl, front, reflect_, transmit_);
-  select_lobes();
-}
 
-void Bsdf::select_lobes() {
-  const float r = average(reflect_), t = average(transmit_);
-  p_reflect_ = (r + t) > 0 ? r / (r + t) : 1.0f;
-}
 
-SampledSpectrum Bsdf::eval(const Vec3& wo, const Vec3& wi) const {
-  const bool same_side = (wo.z > 0) == (wi.z > 0);
-  return (same_side ? reflect_ : transmit_) * kInvPi;
-}
 
-float Bsdf::pdf(const Vec3& wo, const Vec3& wi) const {
-  const bool same_side = (wo.z > 0) == (wi.z > 0);
-  return (same_side ? p_reflect_ : 1.0f - p_reflect_) * cosine_hemisphere_pdf(std::abs(wi.z));
-}
 
-bool Bsdf::sample(const Vec3& wo, Vec2 u, float u_lobe, BsdfSample* out) const {
-  Vec3 wi = sample_cosine_hemisphere(u);
-  if (wi.z <= 0) return false;
-  const bool transmit = u_lobe >= p_reflect_;
-  const float side = wo.z >= 0 ? 1.0f : -1.0f;
-  wi.z *= transmit ? -side : side;
-  const float lobe_p = transmit ? 1.0f - p_reflect_ : p_reflect_;
-  if (lobe_p <= 0) return false;
-  out->wi = wi;
-  out->pdf = lobe_p * cosine_hemisphere_pdf(std::abs(wi.z));
-  out->transmitted = transmit;
-  out->value = (transmit ? transmit_ : reflect_) / lobe_p;  // f·cos/pdf = (ρ/π)·cos / (p·cos/π)
-  return out->pdf > 0;
-}
 
 }  // namespace sylva
