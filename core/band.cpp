@@ -4,10 +4,10 @@
 #include "core/error.h"
 #include "core/table.h"
 
+#include <immintrin.h>
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <immintrin.h>
 
 namespace sylva {
 
@@ -191,7 +191,7 @@ WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
 
 SampledWavelengths WavelengthSampler::sample(float u) const {
   // The four hero wavelengths side by side in one SSE register each step (bench/README.md, "Four
-  // wavelengths at a time"): the same operations as one wavelength at a time, so the same bits.
+  // at a time"): the same operations as one wavelength at a time, so the same bits.
   // u_k = u + k/4, wrapped into [0, 1).
   const __m128 v = _mm_add_ps(_mm_set1_ps(u), _mm_setr_ps(0.0f, 0.25f, 0.5f, 0.75f));
   const __m128 wrap = _mm_cmpge_ps(v, _mm_set1_ps(1.0f));
@@ -236,7 +236,8 @@ SampledWavelengths WavelengthSampler::sample(float u) const {
   const __m128 du = _mm_min_ps(_mm_max_ps(_mm_setzero_ps(), _mm_div_ps(_mm_sub_ps(uk, lo), mass)), _mm_set1_ps(1.0f));
   // lo_nm + bin is a whole number of nm, exact in float; λ stays below the bin's upper edge, so
   // pdf(λ) finds this bin.
-  const __m128 edge = _mm_add_ps(_mm_set1_ps(lo_nm_), _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<__m128i*>(bin_k))));
+  const __m128 edge =
+      _mm_add_ps(_mm_set1_ps(lo_nm_), _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<__m128i*>(bin_k))));
   const __m128 below_next =
       _mm_castsi128_ps(_mm_sub_epi32(_mm_castps_si128(_mm_add_ps(edge, _mm_set1_ps(1.0f))), _mm_set1_epi32(1)));
   SampledWavelengths wl;

@@ -1,6 +1,6 @@
 #pragma once
 // GLM's vector arithmetic on one SSE register per vector, for the few hot paths where GLM's scalar
-// code is the cost (Integrator::interaction; bench/README.md, "Four wavelengths at a time"). Each
+// code is the cost (Integrator::interaction; bench/README.md, "Four at a time"). Each
 // function performs GLM's operations in GLM's order, one per lane, so it gives GLM's bits exactly
 // (tests/core/test_simd.cpp checks that on random inputs): a change of renderer code to these
 // helpers moves no pixel.

@@ -51,15 +51,15 @@ inline GridPosition grid_position(float lambda_nm) {
   return {i, x - static_cast<float>(i)};
 }
 // grid_position of the four carried wavelengths, computed side by side (the same values): every
-// spectral lookup of a path vertex starts here (bench/README.md, "Four wavelengths at a time").
+// spectral lookup of a path vertex starts here (bench/README.md, "Four at a time").
 struct GridPositions {
   alignas(16) int32_t index[kLambdaCount];
   SampledSpectrum fraction;
 };
 inline GridPositions grid_positions(const SampledWavelengths& wl) {
-  const __m128 x = _mm_min_ps(_mm_max_ps(_mm_setzero_ps(), _mm_sub_ps(_mm_loadu_ps(&wl.lambda_nm[0]),
-                                                                       _mm_set1_ps(kLambdaMin))),
-                              _mm_set1_ps(static_cast<float>(kLambdaSamples - 1)));
+  const __m128 x =
+      _mm_min_ps(_mm_max_ps(_mm_setzero_ps(), _mm_sub_ps(_mm_loadu_ps(&wl.lambda_nm[0]), _mm_set1_ps(kLambdaMin))),
+                 _mm_set1_ps(static_cast<float>(kLambdaSamples - 1)));
   // x ≥ 0, so truncating min(x, n − 2) is min(truncated x, n − 2).
   const __m128i i = _mm_cvttps_epi32(_mm_min_ps(x, _mm_set1_ps(static_cast<float>(kLambdaSamples - 2))));
   GridPositions g;

@@ -76,7 +76,7 @@ struct PathState {
       : ray(camera_ray), wl(wavelengths), rng(&random), first(first_hit) {}
   // The same as assigning PathState(camera_ray, ...), written in place: a temporary's copy would
   // reload its fields right after storing them at other offsets, which the processor cannot
-  // forward (a stall per path; bench/README.md, "Four wavelengths at a time").
+  // forward (a stall per path; bench/README.md, "Four at a time").
   void start(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit) {
     ray = camera_ray;
     wl = wavelengths;

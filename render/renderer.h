@@ -151,7 +151,7 @@ class Renderer {
   WavelengthSampler wavelengths_;
   std::vector<std::string> channels_;  // radiance channel names, band after band
   // The radiance channels in blocks of four, the last padded with zeros: add_sample weighs a
-  // sample into four channels per vector operation (bench/README.md, "Four channels at a time").
+  // sample into four channels per vector operation (bench/README.md, "Four at a time").
   size_t channel_blocks_ = 0;
   // w_c(λ) per radiance channel on the 1 nm grid, the channels interleaved ([grid index][block]):
   // a sample's weights for all channels at one wavelength are one or two cache lines, not one each.

@@ -55,15 +55,9 @@ MaterialLobes::MaterialLobes(const std::vector<Material>& materials)
     }
 }
 
-
 Bsdf::Bsdf(const Material& material, const SampledWavelengths& wl, bool front) {
   std::visit([&](const auto& m) { m.lobes(wl, front, reflect_, transmit_); }, material);
   select_lobes();
 }
-
-
-
-
-
 
 }  // namespace sylva
