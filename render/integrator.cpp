@@ -7,8 +7,6 @@
 
 #include <fmt/core.h>
 
-#include <bit>
-
 namespace sylva {
 
 namespace {
@@ -24,13 +22,18 @@ Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
   constexpr float kOrigin = 1.0f / 32.0f;
   constexpr float kFloatScale = 1.0f / 65536.0f;
   constexpr float kIntScale = 256.0f;
-  Vec3 out;
-  for (int i = 0; i < 3; ++i) {
-    const int of = static_cast<int>(kIntScale * n[i]);
-    const float moved = std::bit_cast<float>(std::bit_cast<int32_t>(p[i]) + (p[i] < 0 ? -of : of));
-    out[i] = std::abs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : moved;
-  }
-  return out;
+  // The three coordinates side by side, each with the scalar method's operations (same bits): p's
+  // bits moved by 256·n ulps away from the surface, or, near the origin where ulps are tiny, p
+  // moved by n/65 536.
+  const __m128 pv = simd::load(p), nv = simd::load(n);
+  const __m128i of = _mm_cvttps_epi32(_mm_mul_ps(simd::splat(kIntScale), nv));
+  const __m128i negative = _mm_castps_si128(_mm_cmplt_ps(pv, _mm_setzero_ps()));   // all ones where p < 0
+  const __m128i signed_of = _mm_sub_epi32(_mm_xor_si128(of, negative), negative);  // −of there
+  const __m128 moved = _mm_castsi128_ps(_mm_add_epi32(_mm_castps_si128(pv), signed_of));
+  const __m128 abs_p = _mm_andnot_ps(simd::splat(-0.0f), pv);
+  const __m128 near = _mm_cmplt_ps(abs_p, simd::splat(kOrigin));
+  const __m128 nudged = _mm_add_ps(pv, _mm_mul_ps(simd::splat(kFloatScale), nv));
+  return simd::store(_mm_or_ps(_mm_and_ps(near, nudged), _mm_andnot_ps(near, moved)));
 }
 
 Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,
