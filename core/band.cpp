@@ -2,6 +2,7 @@
 
 #include "core/data_path.h"
 #include "core/error.h"
+#include "core/simd.h"
 #include "core/table.h"
 
 #include <immintrin.h>
@@ -195,7 +196,7 @@ SampledWavelengths WavelengthSampler::sample(float u) const {
   // u_k = u + k/4, wrapped into [0, 1).
   const __m128 v = _mm_add_ps(_mm_set1_ps(u), _mm_setr_ps(0.0f, 0.25f, 0.5f, 0.75f));
   const __m128 wrap = _mm_cmpge_ps(v, _mm_set1_ps(1.0f));
-  const __m128 uk = _mm_or_ps(_mm_and_ps(wrap, _mm_sub_ps(v, _mm_set1_ps(1.0f))), _mm_andnot_ps(wrap, v));
+  const __m128 uk = simd::select(wrap, _mm_sub_ps(v, _mm_set1_ps(1.0f)), v);
   // Each u_k's cell (u_k < 1, so the index stays below kCells), loaded together so the misses
   // overlap, then transposed: cdf0, cdf1, end1 and the two bins of each wavelength's cell.
   alignas(16) int32_t index[kLambdaCount];
@@ -212,8 +213,8 @@ SampledWavelengths WavelengthSampler::sample(float u) const {
   const __m128i bin_mask = _mm_castps_si128(second);
   const __m128i bin = _mm_or_si128(_mm_and_si128(bin_mask, _mm_srli_epi32(bin_pair, 16)),
                                    _mm_andnot_si128(bin_mask, _mm_and_si128(bin_pair, _mm_set1_epi32(0xffff))));
-  __m128 lo = _mm_or_ps(_mm_and_ps(second, cdf1), _mm_andnot_ps(second, cdf0));
-  __m128 hi = _mm_or_ps(_mm_and_ps(second, end1), _mm_andnot_ps(second, cdf1));
+  __m128 lo = simd::select(second, cdf1, cdf0);
+  __m128 hi = simd::select(second, end1, cdf1);
   alignas(16) int32_t bin_k[kLambdaCount];
   _mm_store_si128(reinterpret_cast<__m128i*>(bin_k), bin);
   if (_mm_movemask_ps(_mm_cmpge_ps(uk, hi))) [[unlikely]] {

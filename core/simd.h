@@ -19,6 +19,8 @@ inline Vec3 store(__m128 v) {
   return {f[0], f[1], f[2]};
 }
 inline __m128 splat(float s) { return _mm_set1_ps(s); }
+// Per lane mask ? a : b (mask all ones or all zeros per lane, as the comparisons give).
+inline __m128 select(__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); }
 
 // glm::cross: (a.y·b.z − b.y·a.z, a.z·b.x − b.z·a.x, a.x·b.y − b.x·a.y).
 inline __m128 cross(__m128 a, __m128 b) {

@@ -33,7 +33,7 @@ Vec3 offset_ray_origin(const Vec3& p, const Vec3& n) {
   const __m128 abs_p = _mm_andnot_ps(simd::splat(-0.0f), pv);
   const __m128 near = _mm_cmplt_ps(abs_p, simd::splat(kOrigin));
   const __m128 nudged = _mm_add_ps(pv, _mm_mul_ps(simd::splat(kFloatScale), nv));
-  return simd::store(_mm_or_ps(_mm_and_ps(near, nudged), _mm_andnot_ps(near, moved)));
+  return simd::store(simd::select(near, nudged, moved));
 }
 
 Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Environment& environment,

@@ -58,7 +58,6 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
     for (size_t c = 0; c < b.channels.size(); ++c) {
       channels_.push_back(b.channels[c]);
       weights.push_back(&b.weights[c]);
-      weight_integrals_.push_back(static_cast<float>(b.weights[c].integral()));
     }
   if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
   channel_blocks_ = (weights.size() + 3) / 4;
@@ -68,19 +67,17 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
       interleaved_weights_[i * channel_blocks_ + c / 4][static_cast<int>(c % 4)] = (*weights[c])[i];
   environment_ = Environment(scene_.sun, scene_.sky);
   irradiance_ = channel_irradiance(environment_, settings_.bands);
-  for (size_t c = 0; c < channels_.size(); ++c) {
-    if (settings_.quantity == Quantity::reflectance && !(irradiance_[c] > 0))
-      throw Error("reflectance: channel " + channels_[c] + " receives no irradiance from the sun and sky");
-    scale_.push_back(settings_.quantity == Quantity::reflectance ? kPi / irradiance_[c] : 1.0f);
-  }
   scale_blocks_.assign(channel_blocks_, Vec4(0.0f));
   albedo_norm_blocks_.assign(channel_blocks_, Vec4(1.0f));
   has_albedo_blocks_.assign(channel_blocks_, glm::bvec4(false));
   for (size_t c = 0; c < channels_.size(); ++c) {
+    if (settings_.quantity == Quantity::reflectance && !(irradiance_[c] > 0))
+      throw Error("reflectance: channel " + channels_[c] + " receives no irradiance from the sun and sky");
     const int lane = static_cast<int>(c % 4);
-    scale_blocks_[c / 4][lane] = scale_[c];
-    if (weight_integrals_[c] != 0) {
-      albedo_norm_blocks_[c / 4][lane] = kLambdaCount * weight_integrals_[c];
+    scale_blocks_[c / 4][lane] = settings_.quantity == Quantity::reflectance ? kPi / irradiance_[c] : 1.0f;
+    const auto weight_integral = static_cast<float>(weights[c]->integral());  // ∫ w_c dλ, for the albedo AOV
+    if (weight_integral != 0) {
+      albedo_norm_blocks_[c / 4][lane] = kLambdaCount * weight_integral;
       has_albedo_blocks_[c / 4][lane] = true;
     }
   }

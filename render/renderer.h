@@ -156,10 +156,9 @@ class Renderer {
   // w_c(λ) per radiance channel on the 1 nm grid, the channels interleaved ([grid index][block]):
   // a sample's weights for all channels at one wavelength are one or two cache lines, not one each.
   std::vector<Vec4> interleaved_weights_;
-  std::vector<float> weight_integrals_;  // ∫ w_c dλ, to normalise the albedo AOV
-  std::vector<float> irradiance_;        // E_c per radiance channel
-  std::vector<float> scale_;             // per radiance channel: 1, or π / E_c for reflectance
-  // Per block: scale_, kLambdaCount · ∫ w_c dλ (1 where the integral is 0) and whether it is not 0.
+  std::vector<float> irradiance_;  // E_c per radiance channel
+  // Per block of channels: 1, or π / E_c for reflectance; kLambdaCount · ∫ w_c dλ (1 where the
+  // integral is 0, which normalises the albedo AOV) and whether it is not 0.
   std::vector<Vec4> scale_blocks_, albedo_norm_blocks_;
   std::vector<glm::bvec4> has_albedo_blocks_;
 };
