@@ -73,12 +73,14 @@ void print_scene_stats(const EmbreeStats& es) {
 }
 
 void print_summary(const std::string& what, const RenderStats& total, double wall) {
+  const ResidentMemory memory = resident_memory();
   fmt::print(stderr,
              "wrote {}: {} samples in {:.2f} s render ({:.2f} s total): {:.3f} M samples/s, {:.3f} M rays/s "
-             "({:.2f} CPU-s: {:.3f} M rays per CPU-second)\n",
+             "({:.2f} CPU-s: {:.3f} M rays per CPU-second); {:.0f} MiB resident, {:.0f} MiB of it in huge pages\n",
              what, total.samples, total.seconds, wall, total.samples / std::max(1e-9, total.seconds) / 1e6,
              total.rays / std::max(1e-9, total.seconds) / 1e6, total.cpu_seconds,
-             total.rays / std::max(1e-9, total.cpu_seconds) / 1e6);
+             total.rays / std::max(1e-9, total.cpu_seconds) / 1e6, memory.bytes / 1048576.0,
+             memory.huge_page_bytes / 1048576.0);
 }
 
 // One image: a session that checkpoints and resumes. Returns the exit code.

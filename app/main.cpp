@@ -2,6 +2,7 @@
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/memory.h"
 
 #include <fmt/core.h>
 
@@ -9,6 +10,7 @@
 #include <vector>
 
 int main(int argc, char** argv) {
+  sylva::use_huge_pages(argv);
   CLI::App app{"Sylva: a physically based spectral forest renderer"};
   app.require_subcommand(1);
   app.set_version_flag("--version", SYLVA_VERSION);

@@ -1,11 +1,17 @@
 #include "core/memory.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include <cstdlib>
+#include <cstring>
+
+#include <gnu/libc-version.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 namespace sylva {
 
@@ -37,7 +43,50 @@ uint64_t cgroup_number(const char* name) {
   }
 }
 
+// Whether glibc, as loaded, reads the tunable glibc.malloc.hugetlb (2.35 on).
+bool glibc_has_hugetlb_tunable() {
+  int major = 0, minor = 0;
+  return std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) == 2 && (major > 2 || (major == 2 && minor >= 35));
+}
+
+// Whether the kernel gives transparent huge pages to advised memory only ("[madvise]" selected).
+bool thp_on_advice_only() {
+  std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string modes;
+  std::getline(in, modes);
+  return modes.find("[madvise]") != std::string::npos;
+}
+
 }  // namespace
+
+std::string tunables_with_huge_pages(std::string_view current) {
+  // GLIBC_TUNABLES is a colon-separated list of name=value.
+  size_t start = 0;
+  while (start <= current.size()) {
+    const size_t end = std::min(current.find(':', start), current.size());
+    if (current.substr(start, end - start).starts_with("glibc.malloc.hugetlb=")) return {};
+    start = end + 1;
+  }
+  return current.empty() ? std::string("glibc.malloc.hugetlb=1") : std::string(current) + ":glibc.malloc.hugetlb=1";
+}
+
+void use_huge_pages(char** argv) {
+  if (const char* choice = std::getenv("SYLVA_HUGE_PAGES"); choice && std::strcmp(choice, "0") == 0) return;
+  const char* current = std::getenv("GLIBC_TUNABLES");
+  const std::string tunables = tunables_with_huge_pages(current ? current : "");
+  if (tunables.empty() || !glibc_has_hugetlb_tunable() || !thp_on_advice_only()) return;
+  if (::setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) return;
+  ::execv("/proc/self/exe", argv);
+  // Not executed (no /proc, say): go on in 4 KiB pages, and put the environment back for children.
+  if (current)
+    ::setenv("GLIBC_TUNABLES", current, 1);
+  else
+    ::unsetenv("GLIBC_TUNABLES");
+}
+
+ResidentMemory resident_memory() {
+  return {kilobytes_field("/proc/self/smaps_rollup", "Rss:"), kilobytes_field("/proc/self/smaps_rollup", "AnonHugePages:")};
+}
 
 uint64_t available_memory_bytes() {
   uint64_t available = UINT64_MAX;

@@ -17,6 +17,7 @@
 
 #include "app/render_job.h"
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/output_paths.h"
 #include "render/chunk.h"
 #include "render/session.h"
@@ -190,6 +191,7 @@ int run(const MpiOptions& opt, int rank, int ranks) {
 }  // namespace sylva
 
 int main(int argc, char** argv) {
+  sylva::use_huge_pages(argv);
   int provided = 0;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   int rank = 0, ranks = 1;
