@@ -72,6 +72,8 @@ std::string tunables_with_huge_pages(std::string_view current) {
 
 void use_huge_pages(char** argv) {
   if (const char* choice = std::getenv("SYLVA_HUGE_PAGES"); choice && std::strcmp(choice, "0") == 0) return;
+  // Under Valgrind the program executed again would run outside it (without --trace-children).
+  if (const char* preload = std::getenv("LD_PRELOAD"); preload && std::strstr(preload, "vgpreload")) return;
   const char* current = std::getenv("GLIBC_TUNABLES");
   const std::string tunables = tunables_with_huge_pages(current ? current : "");
   if (tunables.empty() || !glibc_has_hugetlb_tunable() || !thp_on_advice_only()) return;

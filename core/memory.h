@@ -23,7 +23,7 @@ uint64_t available_memory_bytes();
 // once when the process starts. So the entry points call this first: where the kernel's mode is
 // "madvise" and glibc knows the tunable, it adds it to GLIBC_TUNABLES and executes the program
 // again (about 20 ms, once). It returns without doing anything when the tunable is already set
-// (the user's choice wins), when SYLVA_HUGE_PAGES=0, or when executing fails.
+// (the user's choice wins), when SYLVA_HUGE_PAGES=0, under Valgrind, or when executing fails.
 void use_huge_pages(char** argv);
 
 // GLIBC_TUNABLES with glibc.malloc.hugetlb=1 added to `current`; empty when `current` already
