@@ -46,7 +46,8 @@ uint64_t cgroup_number(const char* name) {
 // Whether glibc, as loaded, reads the tunable glibc.malloc.hugetlb (2.35 on).
 bool glibc_has_hugetlb_tunable() {
   int major = 0, minor = 0;
-  return std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) == 2 && (major > 2 || (major == 2 && minor >= 35));
+  return std::sscanf(gnu_get_libc_version(), "%d.%d", &major, &minor) == 2 &&
+         (major > 2 || (major == 2 && minor >= 35));
 }
 
 // Whether the kernel gives transparent huge pages to advised memory only ("[madvise]" selected).
@@ -74,20 +75,22 @@ void use_huge_pages(char** argv) {
   if (const char* choice = std::getenv("SYLVA_HUGE_PAGES"); choice && std::strcmp(choice, "0") == 0) return;
   // Under Valgrind the program executed again would run outside it (without --trace-children).
   if (const char* preload = std::getenv("LD_PRELOAD"); preload && std::strstr(preload, "vgpreload")) return;
-  const char* current = std::getenv("GLIBC_TUNABLES");
-  const std::string tunables = tunables_with_huge_pages(current ? current : "");
+  const char* set = std::getenv("GLIBC_TUNABLES");
+  const std::string current = set ? set : "";
+  const std::string tunables = tunables_with_huge_pages(current);
   if (tunables.empty() || !glibc_has_hugetlb_tunable() || !thp_on_advice_only()) return;
   if (::setenv("GLIBC_TUNABLES", tunables.c_str(), 1) != 0) return;
   ::execv("/proc/self/exe", argv);
   // Not executed (no /proc, say): go on in 4 KiB pages, and put the environment back for children.
-  if (current)
-    ::setenv("GLIBC_TUNABLES", current, 1);
+  if (set)
+    ::setenv("GLIBC_TUNABLES", current.c_str(), 1);
   else
     ::unsetenv("GLIBC_TUNABLES");
 }
 
 ResidentMemory resident_memory() {
-  return {kilobytes_field("/proc/self/smaps_rollup", "Rss:"), kilobytes_field("/proc/self/smaps_rollup", "AnonHugePages:")};
+  return {kilobytes_field("/proc/self/smaps_rollup", "Rss:"),
+          kilobytes_field("/proc/self/smaps_rollup", "AnonHugePages:")};
 }
 
 uint64_t available_memory_bytes() {
