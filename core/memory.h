@@ -15,7 +15,7 @@ uint64_t available_memory_bytes();
 
 // Transparent huge pages (2 MiB) for everything the process allocates: the scene's arrays, Embree's
 // BVH and buffers, the film. A BVH walk over hundreds of MiB in 4 KiB pages misses the TLB at
-// nearly every node; in 2 MiB pages the forest renders about 4 % faster and loads faster (fewer
+// nearly every node; in 2 MiB pages the forest renders about 5 % faster and loads faster (fewer
 // page faults), for about 3 % more peak memory (bench/README.md, "Huge pages").
 //
 // Debian's kernels give them only to memory advised for them (THP mode "madvise"), and glibc's
