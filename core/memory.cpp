@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <cstdlib>
-#include <cstring>
 
 #include <gnu/libc-version.h>
 #include <sys/resource.h>
