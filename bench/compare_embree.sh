@@ -25,7 +25,10 @@
 #
 # On a shared machine one run of each can differ by 10 % from the next: --rounds R runs the two
 # renderers alternately R times (the export once), prints every run with the 1-minute load average
-# before it, and summarises with the median of each figure and of the per-round ratios.
+# before it, and summarises with the median of each figure and of the per-round ratios. With two or
+# more rounds it adds, for the rays/s ratio, the geometric mean of the rounds with its standard error
+# and a one-sided sign test: how many rounds reached 1.0, and the probability of at least that many
+# if each round were as likely below 1.0 as above (the goal's "ratio ≥ 1.0" as a statistical claim).
 set -euo pipefail
 
 usage() { sed -n '4,5p' "$0" | sed 's/^# *//' >&2; exit 2; }
@@ -120,4 +123,14 @@ sort -n "$work/rounds" | awk -v w="$width" -v h="$height" -v n="$rounds" '
     printf "%-22s %12.3f %12.3f %12.2f\n", "embree pathtracer", e_s, e_r, e_r / e_s
     printf "%-22s %12.3f %12.3f %12.2f\n", "sylva", s_s, s_r, s_r / s_s
     printf "ratio (sylva / embree pathtracer): samples/s %.3f, rays/s %.3f\n", median(rs, NR), median(rr, NR)
+    if (NR > 1) {
+      # Geometric mean of the rays/s ratios, its standard error (delta method on the logs).
+      s = 0; ss = 0; above = 0
+      for (i = 1; i <= NR; ++i) { l = log(rr[i]); s += l; ss += l * l; above += rr[i] >= 1.0 }
+      m = s / NR; sd = sqrt((ss - NR * m * m) / (NR - 1))
+      # P(at least `above` of NR rounds >= 1.0 | each one a fair coin): the p-value of the sign test.
+      pk = 0.5 ^ NR; p = 0
+      for (k = 0; k <= NR; ++k) { if (k >= above) p += pk; pk *= (NR - k) / (k + 1) }
+      printf "rays/s ratio over %d rounds: geometric mean %.3f (standard error %.3f); %d rounds >= 1.0, sign test p = %.3g\n", NR, exp(m), exp(m) * sd / sqrt(NR), above, p
+    }
   }'
