@@ -67,9 +67,10 @@ void check_before_rendering(const RenderOptions& opt, const RenderJob& job, cons
 void print_scene_stats(const EmbreeStats& es) {
   fmt::print(stderr,
              "scene: {} instances, {} unique triangles + {} leaf quads + {} curves ({} + {} + {} instanced); BVH "
-             "{:.1f} MiB in {:.0f} ms, Embree's {} kernels\n",
+             "{:.1f} MiB in {:.0f} ms (and {:.1f} MiB of vertices shared with the scene), Embree's {} kernels\n",
              es.instances, es.triangles, es.leaf_quads, es.curves, es.instanced_triangles, es.instanced_leaf_quads,
-             es.instanced_curves, es.bvh_bytes / 1048576.0, es.build_ms, embree_isa_name(es.isa));
+             es.instanced_curves, es.bvh_bytes / 1048576.0, es.build_ms, es.shared_vertex_bytes / 1048576.0,
+             embree_isa_name(es.isa));
 }
 
 void print_summary(const std::string& what, const RenderStats& total, double wall) {

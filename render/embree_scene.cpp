@@ -202,6 +202,22 @@ void set_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
   }
 }
 
+static_assert(sizeof(Vec3) == 3 * sizeof(float), "a Vec3 array is an Embree FLOAT3 vertex buffer");
+
+// The vertex buffer of `g`: `points` itself, shared with Embree rather than copied, when it has the
+// spare element past its end that Embree's 16-byte loads of the last vertex read (pad_for_vector_loads:
+// every prototype added by Scene::add_prototype has it); a copy otherwise. `points` must outlive the
+// scene and keep its storage (EmbreeScene's contract). Returns the bytes shared.
+size_t bind_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
+  if (points.capacity() <= points.size()) {
+    set_vertices(g, points);
+    return 0;
+  }
+  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, points.data(), 0, sizeof(Vec3),
+                             points.size());
+  return points.size() * sizeof(Vec3);
+}
+
 // Robust mode keeps grazing hits on large triangles (a ground plane to the horizon, a terrain)
 // watertight; it costs about 15 % of the traversal (bench/README.md), so it is set only where the
 // geometry is that large: a prototype wider than this. Trees, grass and targets are traced in
@@ -511,7 +527,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
       }
       MeshQuads mq = mesh_quads(tm.triangles, !robust[p]);
       RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-      set_vertices(g, tm.positions);
+      stats_.shared_vertex_bytes += bind_vertices(g, tm.positions);
       set_quads(g, mq.quads);
       impl_->mesh_quad_first[p] = std::move(mq.first);
       rtcCommitGeometry(g);
@@ -527,7 +543,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
       if (!lq.stem.empty() && lq.stem.size() != lq.size())
         throw Error(fmt::format("prototype '{}': leaf quads need one stem index per leaf (or none)", proto.name));
       RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-      set_vertices(g, lq.corners);
+      stats_.shared_vertex_bytes += bind_vertices(g, lq.corners);
       auto* idx = static_cast<unsigned*>(
           rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), lq.size()));
       for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);

@@ -78,6 +78,7 @@ EmbreeIsa resolve_embree_isa(EmbreeIsa requested);
 struct EmbreeStats {
   EmbreeIsa isa = EmbreeIsa::kAvx2;  // the kernels in use (resolve_embree_isa), never kNative
   size_t bvh_bytes = 0;              // peak memory Embree reported through its memory monitor
+  size_t shared_vertex_bytes = 0;    // the scene's vertex arrays Embree reads in place (not in bvh_bytes)
   double build_ms = 0;
   size_t triangles = 0, leaf_quads = 0, instances = 0;  // unique geometry
   size_t solids = 0, discs = 0;
@@ -97,8 +98,9 @@ BvhBuild bvh_build_for(uint64_t path_samples);
 class EmbreeScene {
  public:
   // Builds the BVHs, once: every pass over the scene (camera render, a light-view pass, a plot
-  // sensor) shares them. `scene` must outlive this object (leaf shapes are read from it in
-  // filters). Const member functions are safe to call from any number of threads.
+  // sensor) shares them. `scene` must outlive this object and its prototypes' arrays keep their
+  // storage (leaf shapes are read from them in filters; Embree reads their vertices in place).
+  // Const member functions are safe to call from any number of threads.
   explicit EmbreeScene(const Scene& scene);
   // Test seam: the same scene with deliberate faults (render/testing/faults.h).
   EmbreeScene(const Scene& scene, const TransportFaults& faults);

@@ -87,6 +87,24 @@ struct PlotDesc {
 // Embree instances, the array from there on. The scene file's `[render] instancing`.
 enum class InstanceLevel : uint8_t { automatic, native, array };
 
+// Gives `points` exactly one spare element of capacity past its end, zeroed (any other spare
+// capacity is shed). Embree reads each vertex with a 16-byte load, so the last one's load reaches 4
+// bytes past the array ("the last buffer element must be readable using 16-byte SSE load
+// instructions", rtcSetSharedGeometryBuffer(3)): with that spare element Embree can use the array
+// itself as a vertex buffer instead of a copy of it (EmbreeScene). Zeroed so that what the load
+// reads is the same on every run.
+inline void pad_for_vector_loads(std::vector<Vec3>& points) {
+  if (points.empty()) return;
+  if (points.capacity() != points.size() + 1) {
+    std::vector<Vec3> padded;
+    padded.reserve(points.size() + 1);
+    padded.assign(points.begin(), points.end());
+    points = std::move(padded);
+  }
+  points.push_back(Vec3(0.0f));  // within the capacity: writes the spare element, no reallocation
+  points.pop_back();
+}
+
 struct Scene {
   std::vector<Material> materials;
   std::vector<std::string> material_names;
@@ -106,7 +124,10 @@ struct Scene {
     materials.push_back(std::move(material));
     return static_cast<uint32_t>(materials.size() - 1);
   }
+  // Adds `p`, its vertex arrays padded for Embree to share them (pad_for_vector_loads).
   uint32_t add_prototype(Prototype p) {
+    pad_for_vector_loads(p.triangles.positions);
+    pad_for_vector_loads(p.leaves.corners);
     prototypes.push_back(std::move(p));
     return static_cast<uint32_t>(prototypes.size() - 1);
   }
