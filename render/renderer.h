@@ -74,8 +74,10 @@ struct MemoryEstimate {
   uint64_t film_bytes = 0, image_bytes = 0, bvh_bytes = 0;
   uint64_t total() const { return film_bytes + image_bytes + bvh_bytes; }
 };
-// Measured by Embree's monitor: 199 per leaf quad (bench/scenes/dense_grove.toml); the default
-// forest's 1.07 M triangles (most paired into quads) and 0.79 M leaf quads, 138 each on average.
+// Embree's BVH and the vertices it reads, measured by Embree's monitor plus the vertex arrays it
+// shares with the scene (EmbreeStats::shared_vertex_bytes): 199 per leaf quad
+// (bench/scenes/dense_grove.toml: 151 + 48); the default forest's 1.07 M triangles (most paired
+// into quads) and 0.79 M leaf quads, 138 each on average.
 inline constexpr uint64_t kBvhBytesPerPrimitive = 220;
 // Measured by Embree's monitor: about 1 200 per blade (golden/scenes/grass_terrain.toml, 400 blades).
 inline constexpr uint64_t kBvhBytesPerCurve = 1300;
