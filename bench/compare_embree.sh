@@ -2,7 +2,7 @@
 # Path samples per second of Sylva against Embree's own `pathtracer` tutorial on the same scene.
 #
 #   bench/compare_embree.sh SYLVA [SCENE.toml] [--res WxH] [--threads N] [--frames N] [--max-path-length N]
-#                           [--pathtracer PATH] [--rounds R]
+#                           [--pathtracer PATH] [--rounds R] [--isa ISA]
 #
 # SYLVA is a built `sylva` binary (this script builds nothing). Without SCENE the built-in default
 # scene is used. The scene is exported with `sylva export --no-materials` to one world-space OBJ
@@ -22,6 +22,9 @@
 # counts closest-hit and shadow rays. Both figures come from the renderers' own clocks (render loop
 # only, no scene load, BVH build or image output). Ratio = Sylva samples/s ÷ pathtracer samples/s.
 # Reproducible: fixed seed and resolution, an explicit thread count (default 2) for both.
+# Embree's kernels: by default each renderer's own choice (the tutorial the processor's widest, Sylva
+# AVX2: `sylva render --isa`); --isa ISA (sse2, sse4.2, avx, avx2 or avx512) gives both the same
+# cap: the tutorial `--isa ISA --rtcore max_isa=ISA`, Sylva `--isa ISA`.
 #
 # On a shared machine one run of each can differ by 10 % from the next: --rounds R runs the two
 # renderers alternately R times (the export once), prints every run with the 1-minute load average
@@ -51,6 +54,10 @@ while [[ $# -gt 0 ]]; do
     --pathtracer) pathtracer=$2; shift 2 ;;
     --rounds) rounds=$2; shift 2 ;;
     --max-path-length) embree_extra+=(--max-path-length "$2"); sylva_extra+=(--max-depth "$2"); shift 2 ;;
+    --isa)
+      [[ $2 =~ ^(sse2|sse4\.2|avx|avx2|avx512)$ ]] ||
+        { echo "compare_embree: --isa expects sse2, sse4.2, avx, avx2 or avx512, not '$2'" >&2; exit 2; }
+      embree_extra+=(--isa "$2" --rtcore "max_isa=$2"); sylva_extra+=(--isa "$2"); shift 2 ;;
     -h|--help) usage ;;
     -*) echo "compare_embree: unknown option $1" >&2; usage ;;
     *) scene=$1; shift ;;
