@@ -2,10 +2,13 @@
 
 #include "core/error.h"
 #include "core/rng.h"
+#include "geometry/leaf_shape.h"
 #include "scenes/scene_file.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <variant>
@@ -43,6 +46,58 @@ TEST(SceneFile, ExampleScenesParse) {
   for (const char* name : {"objects.toml", "aspen_grove.toml", "tree_models.toml", "forest_aerial.toml"}) {
     EXPECT_NO_THROW(load_scene_file(std::string(SYLVA_SOURCE_DIR) + "/data/examples/" + name)) << name;
   }
+}
+
+// The leaf quads of a scene's prototypes, with the total outline area (quad area × the shape's
+// coverage) of the leaves that `instances` place.
+struct PlacedLeaves {
+  const LeafQuads* quads = nullptr;
+  double area = 0;
+};
+PlacedLeaves placed_leaves(const Scene& scene) {
+  PlacedLeaves out;
+  for (const Instance& inst : scene.instances) {
+    const LeafQuads& q = scene.prototypes[inst.prototype].leaves;
+    if (q.size() == 0) continue;
+    out.quads = &q;
+    const double scale = std::cbrt(std::abs(glm::determinant(Mat3(inst.world_from_object))));
+    for (size_t i = 0; i < q.size(); ++i) {
+      const Vec3* c = &q.corners[4 * i];
+      out.area += scale * scale * glm::length(glm::cross(c[1] - c[0], c[3] - c[0])) * leaf_shape_coverage(q.shapes[i]);
+    }
+  }
+  return out;
+}
+
+// bench/scenes/dense_grove_rect.toml is the grove with each oval leaf replaced by a rectangle of the
+// same area at the same place: what bench/README.md's comparison of the two relies on.
+TEST(SceneFile, BenchGroveTwinHasTheSameLeavesAsRectangles) {
+  const std::string dir = std::string(SYLVA_SOURCE_DIR) + "/bench/scenes/";
+  const SceneFile oval = load_scene_file(dir + "dense_grove.toml");
+  const SceneFile rect = load_scene_file(dir + "dense_grove_rect.toml");
+  const PlacedLeaves a = placed_leaves(oval.scene), b = placed_leaves(rect.scene);
+  ASSERT_NE(a.quads, nullptr);
+  ASSERT_NE(b.quads, nullptr);
+  ASSERT_EQ(a.quads->size(), b.quads->size());
+  EXPECT_EQ(a.quads->shapes.front(), LeafShape::Oval);
+  EXPECT_EQ(b.quads->shapes.front(), LeafShape::Rectangle);
+  // The same centres and planes, leaf by leaf.
+  double worst_centre = 0, worst_normal = 0;
+  for (size_t i = 0; i < a.quads->size(); ++i) {
+    const Vec3* ca = &a.quads->corners[4 * i];
+    const Vec3* cb = &b.quads->corners[4 * i];
+    worst_centre = std::max<double>(worst_centre, glm::length(0.25f * (ca[0] + ca[1] + ca[2] + ca[3]) -
+                                                             0.25f * (cb[0] + cb[1] + cb[2] + cb[3])));
+    const Vec3 na = glm::normalize(glm::cross(ca[1] - ca[0], ca[3] - ca[0]));
+    const Vec3 nb = glm::normalize(glm::cross(cb[1] - cb[0], cb[3] - cb[0]));
+    worst_normal = std::max<double>(worst_normal, 1.0 - glm::dot(na, nb));
+  }
+  EXPECT_LT(worst_centre, 1e-5);
+  EXPECT_LT(worst_normal, 1e-5);
+  // Equal leaf area in the grove (the oval's coverage is a 256² grid estimate of π/4).
+  EXPECT_GT(a.area, 0.0);
+  EXPECT_NEAR(b.area / a.area, 1.0, 2e-3) << "oval " << a.area << " m², rectangles " << b.area << " m²";
+  EXPECT_EQ(oval.scene.instances.size(), rect.scene.instances.size());
 }
 
 TEST(SceneFile, TreesShareOnePrototypePerSpeciesAndSeed) {
