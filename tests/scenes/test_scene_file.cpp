@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "geometry/leaf_shape.h"
+#include "geometry/trees/lod.h"
 #include "scenes/scene_file.h"
 
 #include <gtest/gtest.h>
@@ -60,11 +61,9 @@ PlacedLeaves placed_leaves(const Scene& scene) {
     const LeafQuads& q = scene.prototypes[inst.prototype].leaves;
     if (q.size() == 0) continue;
     out.quads = &q;
+    // The crowns are scaled uniformly: area grows with the square of the linear scale.
     const double scale = std::cbrt(std::abs(glm::determinant(Mat3(inst.world_from_object))));
-    for (size_t i = 0; i < q.size(); ++i) {
-      const Vec3* c = &q.corners[4 * i];
-      out.area += scale * scale * glm::length(glm::cross(c[1] - c[0], c[3] - c[0])) * leaf_shape_coverage(q.shapes[i]);
-    }
+    out.area += scale * scale * leaf_outline_area(q);
   }
   return out;
 }
