@@ -12,7 +12,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
 #include <variant>
+#include <vector>
 
 namespace sylva {
 namespace {
@@ -66,6 +69,39 @@ PlacedLeaves placed_leaves(const Scene& scene) {
     out.area += scale * scale * leaf_outline_area(q);
   }
   return out;
+}
+
+// The lines of a scene file that are not comments or blank, with their line numbers.
+std::vector<std::pair<int, std::string>> scene_lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::pair<int, std::string>> lines;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+    if (!line.empty() && line[0] != '#') lines.emplace_back(n, line);
+  return lines;
+}
+
+// The twin is written out in full (a scene file cannot include another), so nothing but its three
+// leaf lines may differ from the grove: the camera, sun, sky, materials, trunks and instances must
+// stay the grove's when either file is edited.
+TEST(SceneFile, BenchGroveTwinDiffersFromTheGroveOnlyInItsLeaves) {
+  const std::string dir = std::string(SYLVA_SOURCE_DIR) + "/bench/scenes/";
+  const auto oval = scene_lines(dir + "dense_grove.toml"), rect = scene_lines(dir + "dense_grove_rect.toml");
+  ASSERT_GT(oval.size(), 50u);
+  ASSERT_EQ(oval.size(), rect.size()) << "the two files no longer have the same settings";
+  const auto leaf_line = [](const std::string& l) {
+    return l.starts_with("leaf_length =") || l.starts_with("leaf_width =") || l.starts_with("leaf_shape =");
+  };
+  int leaf_lines = 0;
+  for (size_t i = 0; i < oval.size(); ++i) {
+    if (leaf_line(oval[i].second) && leaf_line(rect[i].second)) {
+      ++leaf_lines;
+      continue;
+    }
+    EXPECT_EQ(oval[i].second, rect[i].second)
+        << "dense_grove.toml:" << oval[i].first << " against dense_grove_rect.toml:" << rect[i].first;
+  }
+  EXPECT_EQ(leaf_lines, 3);
 }
 
 // bench/scenes/dense_grove_rect.toml is the grove with each oval leaf replaced by a rectangle of the
