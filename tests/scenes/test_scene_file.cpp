@@ -121,8 +121,8 @@ TEST(SceneFile, BenchGroveTwinHasTheSameLeavesAsRectangles) {
   for (size_t i = 0; i < a.quads->size(); ++i) {
     const Vec3* ca = &a.quads->corners[4 * i];
     const Vec3* cb = &b.quads->corners[4 * i];
-    worst_centre = std::max<double>(worst_centre, glm::length(0.25f * (ca[0] + ca[1] + ca[2] + ca[3]) -
-                                                             0.25f * (cb[0] + cb[1] + cb[2] + cb[3])));
+    worst_centre = std::max<double>(
+        worst_centre, glm::length(0.25f * (ca[0] + ca[1] + ca[2] + ca[3]) - 0.25f * (cb[0] + cb[1] + cb[2] + cb[3])));
     const Vec3 na = glm::normalize(glm::cross(ca[1] - ca[0], ca[3] - ca[0]));
     const Vec3 nb = glm::normalize(glm::cross(cb[1] - cb[0], cb[3] - cb[0]));
     worst_normal = std::max<double>(worst_normal, 1.0 - glm::dot(na, nb));
