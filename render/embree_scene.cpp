@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "geometry/grass.h"
 #include "geometry/leaf_shape.h"
+#include "render/instance_sweep.h"
 
 #include <embree3/rtcore.h>
 #include <fmt/core.h>
@@ -370,6 +371,103 @@ void array_occluded(const RTCOccludedFunctionNArguments* args) {
   }
 }
 
+// The sweep (render/instance_sweep.h): a scene of at most InstanceBoxes::kMaxCopies copies traced
+// without Embree's instance BVH. Each copy as the sweep enters it: the ray moved into its object
+// space as for the instance array, and its prototype's BVH.
+struct SweepCopy {
+  Mat3 object_from_world;  // the inverse of the copy's linear part
+  Vec3 origin;             // the copy's world origin (its translation and cell shift)
+  RTCScene prototype = nullptr;
+  unsigned id = 0;  // the Embree instance id it stands for: copy k of instance i is k·N + i
+};
+
+struct InstanceSweep {
+  std::vector<SweepCopy> copies;
+  InstanceBoxes boxes;  // copy j's world box is box j
+};
+
+// Copy `c`'s closest hit along o + t·d, t in [0, t_max), into `rh` (its instID[0] the copy's id).
+bool enter_copy(const SweepCopy& c, const Vec3& o, const Vec3& d, float t_max, RTCRayHit& rh) {
+  RTCRayHit h;  // Embree reads only the ray and the hit's ids
+  set_rtc_ray(h.ray, c.object_from_world * (o - c.origin), c.object_from_world * d, 0.0f, t_max);
+  h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(c.prototype, &context, &h);
+  if (h.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  rh = h;
+  rh.hit.instID[0] = c.id;
+  return true;
+}
+
+bool copy_occludes(const SweepCopy& c, const Vec3& o, const Vec3& d, float t_max) {
+  RTCRay r;
+  set_rtc_ray(r, c.object_from_world * (o - c.origin), c.object_from_world * d, 0.0f, t_max);
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcOccluded1(c.prototype, &context, &r);
+  return r.tfar < 0.0f;
+}
+
+// Whether the ray leaves copy `from` from inside its box: a ray leaving a leaf inside its crown's
+// box, worth tracing in that crown first; not one leaving a ground plane, whose flat box an origin
+// lifted off the surface lies outside of, and which the ray cannot meet again.
+bool leaves_from_inside(const InstanceSweep& s, size_t from, const Vec3& o) {
+  return from < s.copies.size() && (s.boxes.valid() >> from & 1) && s.boxes.contains(from, o);
+}
+
+// The closest hit over the sweep's copies, in `rh` (its instID[0] the copy's instance id). `from`:
+// the copy whose surface the ray leaves, if known (else ≥ the copy count). When the ray leaves it from
+// inside its box, that copy is entered first, and if its hit ends the segment inside the box, only
+// the copies whose boxes overlap it can hold a nearer hit: no other is tested. Any `from` gives the
+// same hit (up to the order of exact ties): it only saves work.
+bool sweep_intersect(const InstanceSweep& s, const Vec3& o, const Vec3& d, float t_max, size_t from, RTCRayHit& rh) {
+  const InstanceBoxes& boxes = s.boxes;
+  const Vec3 inv = InstanceBoxes::inverse_direction(d);
+  float t_best = t_max;
+  bool found = false;
+  uint64_t left = boxes.valid();
+  if (leaves_from_inside(s, from, o)) {
+    left &= ~(uint64_t{1} << from);
+    found = enter_copy(s.copies[from], o, d, t_best, rh);
+    if (found) t_best = rh.ray.tfar;
+    if (found && boxes.contains(from, o + t_best * d)) {
+      for (uint64_t m = boxes.overlapping(from); m != 0; m &= m - 1) {
+        const auto j = static_cast<size_t>(std::countr_zero(m));
+        if (boxes.entry(j, o, inv, t_best) <= t_best && enter_copy(s.copies[j], o, d, t_best, rh)) t_best = rh.ray.tfar;
+      }
+      return true;
+    }
+  }
+  alignas(32) float near[InstanceBoxes::kMaxCopies];
+  left &= boxes.meet(o, inv, t_best, near);
+  while (left != 0) {
+    const size_t j = take_nearest(left, near);
+    if (near[j] > t_best) break;  // every box left begins beyond the closest hit
+    if (enter_copy(s.copies[j], o, d, t_best, rh)) {
+      t_best = rh.ray.tfar;
+      found = true;
+    }
+  }
+  return found;
+}
+
+// Whether any of the sweep's copies blocks the segment: `from` (as for sweep_intersect) first, then
+// the boxes the segment meets, nearest first.
+bool sweep_occluded(const InstanceSweep& s, const Vec3& o, const Vec3& d, float t_max, size_t from) {
+  uint64_t left = s.boxes.valid();
+  if (leaves_from_inside(s, from, o)) {
+    if (copy_occludes(s.copies[from], o, d, t_max)) return true;
+    left &= ~(uint64_t{1} << from);
+  }
+  alignas(32) float near[InstanceBoxes::kMaxCopies];
+  left &= s.boxes.meet(o, InstanceBoxes::inverse_direction(d), t_max, near);
+  while (left != 0)
+    if (copy_occludes(s.copies[take_nearest(left, near)], o, d, t_max)) return true;
+  return false;
+}
+
 std::atomic<int64_t> g_embree_bytes{0};
 std::atomic<int64_t> g_embree_peak{0};
 
@@ -404,6 +502,10 @@ struct EmbreeScene::Impl {
   // into them, the prototypes' scenes and the Scene's instances.
   std::vector<Bounds3> prototype_bounds;
   InstanceArray array;
+  // A scene of few copies (kSweepMax): traced by the sweep, not through `top` (which is still built,
+  // for the scene's bounds).
+  InstanceSweep sweep;
+  bool sweeping = false;
   // Cyclic plot: the cell [lo, hi] (x, y), its period, and the heights outside which no geometry lies.
   bool cyclic = false;
   Vec2 lo{0.0f}, hi{0.0f}, period{0.0f};
@@ -683,10 +785,13 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     stats_.instanced_curves += p.curves.size();
   }
   stats_.instance_array = uses_instance_array(scene);
-  if (stats_.instance_array)
+  if (stats_.instance_array) {
     add_instance_array(scene, copies);
-  else
+  } else {
     add_native_instances(scene, copies);
+    stats_.instance_sweep = uses_instance_sweep(scene) && n_instances > 0;
+    if (stats_.instance_sweep) add_sweep(scene, copies);
+  }
   stats_.instances = n_instances;
   rtcCommitScene(impl_->top);
   check(device, "building the instance BVH");
@@ -698,17 +803,44 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
 
 EmbreeScene::~EmbreeScene() = default;
 
+namespace {
+
+// Embree instances of `scene`: a cyclic plot's nine copies of each instance counted.
+size_t embree_instances(const Scene& scene) {
+  return scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);
+}
+
+}  // namespace
+
 bool uses_instance_array(const Scene& scene) {
   switch (scene.instance_level) {
     case InstanceLevel::native:
+    case InstanceLevel::sweep:
       return false;
     case InstanceLevel::array:
       return true;
     case InstanceLevel::automatic:
       break;
   }
-  const size_t copies = scene.plot.defined && scene.plot.cyclic ? 9 : 1;
-  return scene.instances.size() * copies >= kInstanceArrayThreshold;
+  return embree_instances(scene) >= kInstanceArrayThreshold;
+}
+
+bool uses_instance_sweep(const Scene& scene) {
+  switch (scene.instance_level) {
+    case InstanceLevel::native:
+    case InstanceLevel::array:
+      return false;
+    case InstanceLevel::sweep:
+      if (embree_instances(scene) > InstanceBoxes::kMaxCopies)
+        throw Error(
+            fmt::format("instancing = \"sweep\" takes at most {} copies, not {} (a cyclic plot counts nine "
+                        "of each instance): use \"auto\" or \"native\"",
+                        InstanceBoxes::kMaxCopies, embree_instances(scene)));
+      return true;
+    case InstanceLevel::automatic:
+      break;
+  }
+  return embree_instances(scene) <= InstanceBoxes::kMaxCopies;
 }
 
 // One Embree instance per copy: copy k of instance i has the Embree id k·N + i (copy 0 is the
@@ -743,15 +875,11 @@ void EmbreeScene::add_native_instances(const Scene& scene, int copies) {
   }
 }
 
-// The instance array: one user geometry of copies·N primitives (primitive k·N + i is copy k of
-// instance i, as the native ids); nothing stored per instance beyond the Scene's.
-void EmbreeScene::add_instance_array(const Scene& scene, int copies) {
-  const size_t n_instances = scene.instances.size();
-  if (n_instances == 0) return;
-  if (n_instances * static_cast<size_t>(copies) >= RTC_INVALID_GEOMETRY_ID)
-    throw Error(fmt::format("{} instances are more than the instance array holds", n_instances));
+// The prototypes' object boxes and the description of the copies (Impl::array) that the instance
+// array and the sweep read.
+void EmbreeScene::set_up_copies(const Scene& scene) {
   Impl& m = *impl_;
-  m.prototype_bounds.resize(m.prototypes.size());
+  m.prototype_bounds.assign(m.prototypes.size(), Bounds3{});
   for (size_t p = 0; p < m.prototypes.size(); ++p) {
     RTCBounds b;
     rtcGetSceneBounds(m.prototypes[p], &b);
@@ -761,7 +889,36 @@ void EmbreeScene::add_instance_array(const Scene& scene, int copies) {
     }
   }
   m.array = InstanceArray{scene.instances.data(), m.prototypes.data(), m.prototype_bounds.data(),
-                          static_cast<uint32_t>(n_instances), m.period};
+                          static_cast<uint32_t>(scene.instances.size()), m.period};
+}
+
+// The sweep over the scene's copies (copy k of instance i at index k·N + i, as the native ids).
+void EmbreeScene::add_sweep(const Scene& scene, int copies) {
+  Impl& m = *impl_;
+  set_up_copies(scene);
+  const size_t n = scene.instances.size(), total = n * static_cast<size_t>(copies);
+  std::vector<Bounds3> boxes;
+  for (size_t j = 0; j < total; ++j) {
+    const auto i = static_cast<uint32_t>(j % n), k = static_cast<uint32_t>(j / n);
+    const Instance& inst = scene.instances[i];
+    m.sweep.copies.push_back(SweepCopy{glm::inverse(Mat3(inst.world_from_object)),
+                                       Vec3(inst.world_from_object[3]) + Vec3(kCellShifts[k] * m.period, 0.0f),
+                                       m.prototypes[inst.prototype], static_cast<unsigned>(j)});
+    boxes.push_back(array_instance_bounds(m.array, i, k));
+  }
+  m.sweep.boxes = InstanceBoxes(boxes);
+  m.sweeping = true;
+}
+
+// The instance array: one user geometry of copies·N primitives (primitive k·N + i is copy k of
+// instance i, as the native ids); nothing stored per instance beyond the Scene's.
+void EmbreeScene::add_instance_array(const Scene& scene, int copies) {
+  const size_t n_instances = scene.instances.size();
+  if (n_instances == 0) return;
+  if (n_instances * static_cast<size_t>(copies) >= RTC_INVALID_GEOMETRY_ID)
+    throw Error(fmt::format("{} instances are more than the instance array holds", n_instances));
+  Impl& m = *impl_;
+  set_up_copies(scene);
   for (uint32_t i = 0; i < n_instances; ++i) {
     const Bounds3 b = array_instance_bounds(m.array, i, 0);
     if (!b.empty()) {
@@ -837,8 +994,8 @@ bool start_walk(float z_lo, float z_hi, Vec2 lo, Vec2 period, const Vec3& origin
 
 }  // namespace
 
-bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
-  if (!impl_->cyclic) return intersect_cell(ray, hit);
+bool EmbreeScene::intersect(const Ray& ray, RayHit* hit, uint32_t from) const {
+  if (!impl_->cyclic) return intersect_cell(ray, hit, from);
   const Impl& m = *impl_;
   const Vec3& d = ray.direction;
   CellWalk walk;
@@ -847,7 +1004,7 @@ bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
   while (walk.travelled < ray.t_max) {
     next_segment(walk, d, m.lo, m.hi);
     const float remaining = ray.t_max - walk.travelled;
-    if (intersect_cell(Ray{walk.origin, d, std::min(walk.segment, remaining)}, hit)) {
+    if (intersect_cell(Ray{walk.origin, d, std::min(walk.segment, remaining)}, hit, kNoInstance)) {
       hit->t += walk.travelled;
       return true;
     }
@@ -856,8 +1013,8 @@ bool EmbreeScene::intersect(const Ray& ray, RayHit* hit) const {
   return false;
 }
 
-bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_max) const {
-  if (!impl_->cyclic) return occluded_cell(origin, direction, t_max);
+bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from) const {
+  if (!impl_->cyclic) return occluded_cell(origin, direction, t_max, from);
   const Impl& m = *impl_;
   const Vec3& d = direction;
   CellWalk walk;
@@ -866,21 +1023,25 @@ bool EmbreeScene::occluded(const Vec3& origin, const Vec3& direction, float t_ma
   while (walk.travelled < t_max) {
     next_segment(walk, d, m.lo, m.hi);
     const float remaining = t_max - walk.travelled;
-    if (occluded_cell(walk.origin, d, std::min(walk.segment, remaining))) return true;
+    if (occluded_cell(walk.origin, d, std::min(walk.segment, remaining), kNoInstance)) return true;
     if (walk.segment >= remaining || !cross_wall(walk, d, m.lo, m.hi, m.z_lo, m.z_hi, crossings)) return false;
   }
   return false;
 }
 
-bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit, uint32_t from) const {
   RTCRayHit rh;  // Embree reads only the ray and the hit's ids
-  set_rtc_ray(rh.ray, ray.origin, ray.direction, 0.0f, ray.t_max);
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->top, &context, &rh);
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  if (impl_->sweeping) {
+    if (!sweep_intersect(impl_->sweep, ray.origin, ray.direction, ray.t_max, from, rh)) return false;
+  } else {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    set_rtc_ray(rh.ray, ray.origin, ray.direction, 0.0f, ray.t_max);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->top, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  }
   hit->t = rh.ray.tfar;
   hit->instance = rh.hit.instID[0];
   if (impl_->cyclic && hit->instance != RTC_INVALID_GEOMETRY_ID)
@@ -905,7 +1066,8 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit) const {
   return true;
 }
 
-bool EmbreeScene::occluded_cell(const Vec3& origin, const Vec3& direction, float t_max) const {
+bool EmbreeScene::occluded_cell(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from) const {
+  if (impl_->sweeping) return sweep_occluded(impl_->sweep, origin, direction, t_max, from);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRay ray;

@@ -30,6 +30,9 @@ namespace sylva {
 // A closest hit. `instance` indexes Scene::instances; `primitive` indexes the instance's
 // prototype's triangles, or its leaf quads when `leaf` (then Prototype::leaves.stem[primitive], if
 // present, is the tree stem carrying the leaf).
+// No instance: a ray that leaves no surface (EmbreeScene::intersect's `from`).
+inline constexpr uint32_t kNoInstance = 0xffffffffu;
+
 struct RayHit {
   float t = 0;  // along the ray as given (cyclic plots: the unwrapped distance)
   uint32_t instance = 0;
@@ -50,6 +53,10 @@ inline constexpr size_t kInstanceArrayThreshold = 16384;
 
 // Whether `scene` reaches Embree through the instance array (else one native instance per copy).
 bool uses_instance_array(const Scene& scene);
+// Whether `scene`'s copies are traced by the sweep (render/instance_sweep.h) instead of Embree's
+// instance BVH: InstanceLevel::sweep, or automatic with at most InstanceBoxes::kMaxCopies Embree
+// instances. Throws sylva::Error when the sweep is asked for more.
+bool uses_instance_sweep(const Scene& scene);
 
 // Bytes per Embree instance at the instance level beyond Scene::instances, measured
 // (bench/README.md): native instances (Embree's geometry object, its transform, the top BVH) and
@@ -85,6 +92,7 @@ struct EmbreeStats {
   size_t instanced_triangles = 0, instanced_leaf_quads = 0;
   size_t curves = 0, instanced_curves = 0;
   bool instance_array = false;  // the instances reached Embree as one instance array
+  bool instance_sweep = false;  // the copies are traced by the sweep, not Embree's instance BVH
 };
 
 // How much time the prototype BVHs' build may take. kThorough (Embree's high quality, with spatial
@@ -113,9 +121,13 @@ class EmbreeScene {
   // Closest hit with t in [0, ray.t_max); false if none. In a cyclic plot the hit point
   // ray.origin + t·direction and the point interpolated from the hit primitive may differ by whole
   // periods: both are the same point of the periodic world.
-  bool intersect(const Ray& ray, RayHit* hit) const;
-  // Any hit with t in [0, t_max).
-  bool occluded(const Vec3& origin, const Vec3& direction, float t_max) const;
+  // `from`: the instance (Scene::instances) whose surface the ray leaves, or kNoInstance. A hint
+  // only: that instance is searched first, and in a scene of few instances a ray that ends inside
+  // the instance's own box then skips the others (bench/README.md, "A sweep in place of the instance
+  // BVH"). Any value gives the same hit, up to the order of exact ties.
+  bool intersect(const Ray& ray, RayHit* hit, uint32_t from = kNoInstance) const;
+  // Any hit with t in [0, t_max); `from` as for intersect.
+  bool occluded(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from = kNoInstance) const;
 
   const EmbreeStats& stats() const { return stats_; }
   // World bounds of all geometry (one period of a cyclic plot: the unshifted instances).
@@ -132,8 +144,10 @@ class EmbreeScene {
 
   void add_native_instances(const Scene& scene, int copies);
   void add_instance_array(const Scene& scene, int copies);
-  bool intersect_cell(const Ray& ray, RayHit* hit) const;
-  bool occluded_cell(const Vec3& origin, const Vec3& direction, float t_max) const;
+  void set_up_copies(const Scene& scene);
+  void add_sweep(const Scene& scene, int copies);
+  bool intersect_cell(const Ray& ray, RayHit* hit, uint32_t from) const;
+  bool occluded_cell(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from) const;
 };
 
 }  // namespace sylva

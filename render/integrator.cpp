@@ -64,10 +64,11 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
   constexpr int kMaxCrossings = 256;
   double optical_depth = 0.0;
   Ray ray{o, d};
+  uint32_t from = kNoInstance;
   for (int i = 0; i < kMaxCrossings; ++i) {
     RayHit hit;
     ++rays;
-    if (!embree_.intersect(ray, &hit)) break;
+    if (!embree_.intersect(ray, &hit, from)) break;
     const HalfSpaceSolid* medium = turbid_solid(hit);
     if (medium == nullptr) return 0.0f;
     // Unit, as offset_ray_origin expects: the normal matrix scales it by 1/scale for scaled crowns.
@@ -76,6 +77,7 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
     // Leaving a crown: the segment since the last crossing (or the start) was inside it.
     if (!entering) optical_depth += static_cast<double>(kSphericalG * medium->leaf_area_density) * hit.t;
     ray = Ray{offset_ray_origin(ray.origin + hit.t * d, entering ? -n : n), d};
+    from = hit.instance;
   }
   return static_cast<float>(std::exp(-optical_depth));
 }
@@ -211,7 +213,7 @@ void Integrator::trace_paths(std::span<PathState> paths, uint64_t& rays) const {
     n += path.alive;
   }
   while (n > 0) {
-    for (size_t k = 0; k < n; ++k) found[k] = embree_.intersect(live[k]->ray, &hits[k]);
+    for (size_t k = 0; k < n; ++k) found[k] = embree_.intersect(live[k]->ray, &hits[k], live[k]->from);
     rays += n;
     for (size_t k = 0; k < n; ++k) advance(*live[k], found[k], hits[k]);
     // A path that ended at this bounce may still have its last shadow ray to resolve.
@@ -279,13 +281,14 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
         if (ls.pdf > 0 && !is_black(ls.radiance)) {
           const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
           const float w = power_heuristic(ls.pdf, phase);
-          shadow = ShadowQuery{ShadowQuery::Kind::kSky, p, ls.wi, beta, SampledSpectrum(1.0f), ls.radiance,
+          shadow = ShadowQuery{ShadowQuery::Kind::kSky, kNoInstance, p, ls.wi, beta, SampledSpectrum(1.0f), ls.radiance,
                                phase * w / ls.pdf};
         }
       }
       const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
       prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
       ray = Ray{p, wi};
+      path.from = kNoInstance;
       return roulette_then_next_bounce();
     }
   }
@@ -305,6 +308,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
           if (!is_black(f)) {
             const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
             shadow = ShadowQuery{haze_.enabled() ? ShadowQuery::Kind::kSkyLeaf : ShadowQuery::Kind::kCrownLeaf,
+                                 kNoInstance,
                                  p,
                                  ls.wi,
                                  beta,
@@ -322,6 +326,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
       beta *= ps.weight;
       prev_pdf = ps.pdf;
       ray = Ray{p, ps.direction};
+      path.from = kNoInstance;
       return roulette_then_next_bounce();
     }
   }
@@ -337,6 +342,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
         sigma_t = 0.0f;
       }
       ray = Ray{offset_ray_origin(ray.origin + hit.t * ray.direction, entering ? -n : n), ray.direction};
+      path.from = hit.instance;
       if (++path.crossings > 1024) return end_path();
       return next_bounce(0);
     }
@@ -376,6 +382,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
         if (!is_black(f)) {
           const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
           shadow = ShadowQuery{ShadowQuery::Kind::kSurface,
+                               si.instance,
                                offset_ray_origin(si.p, transmits ? -ng : ng),
                                ls.wi,
                                beta * f * std::abs(wi_local.z),
@@ -399,6 +406,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   beta *= bs.value;
   prev_pdf = bs.pdf;
   ray = Ray{offset_ray_origin(si.p, bs.transmitted ? -ng : ng), wi};
+  path.from = si.instance;
 
   return roulette_then_next_bounce();
 }
@@ -410,7 +418,7 @@ void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
   if (kind == ShadowQuery::Kind::kNone) return;
   path.shadow.kind = ShadowQuery::Kind::kNone;  // resolved; the rest of the query is read below
   ++rays;
-  if (embree_.occluded(q.origin, q.direction, std::numeric_limits<float>::infinity())) return;
+  if (embree_.occluded(q.origin, q.direction, std::numeric_limits<float>::infinity(), q.from)) return;
   switch (kind) {
     case ShadowQuery::Kind::kNone:
       break;

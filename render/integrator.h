@@ -62,6 +62,7 @@ struct ShadowQuery {
     kSurface,    // from a surface: a = β · f · |cos θ|, c = L_e, x = w, y = pdf
   };
   Kind kind = Kind::kNone;
+  uint32_t from = kNoInstance;  // the instance whose surface the ray leaves (EmbreeScene::occluded)
   Vec3 origin{0.0f}, direction{0.0f};
   SampledSpectrum a{0.0f}, b{0.0f}, c{0.0f};
   float x = 0, y = 0;
@@ -79,6 +80,7 @@ struct PathState {
   // forward (a stall per path; bench/README.md, "Four at a time").
   void start(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit) {
     ray = camera_ray;
+    from = kNoInstance;
     wl = wavelengths;
     rng = &random;
     first = first_hit;
@@ -94,7 +96,8 @@ struct PathState {
     shadow.kind = ShadowQuery::Kind::kNone;
   }
 
-  Ray ray;  // the next ray to trace
+  Ray ray;                      // the next ray to trace
+  uint32_t from = kNoInstance;  // the instance whose surface `ray` leaves (EmbreeScene::intersect)
   SampledWavelengths wl;
   Pcg32* rng = nullptr;
   FirstHit* first = nullptr;  // optional

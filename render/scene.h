@@ -83,9 +83,11 @@ struct PlotDesc {
 
 // How placed instances reach the ray tracer (render/embree_scene.h): one Embree instance per copy
 // (`native`), one user geometry over all of them (`array`: about a quarter of the memory and a
-// fraction of the build time per instance), or `automatic`: native below kInstanceArrayThreshold
-// Embree instances, the array from there on. The scene file's `[render] instancing`.
-enum class InstanceLevel : uint8_t { automatic, native, array };
+// fraction of the build time per instance), native instances traced by the sweep instead of
+// Embree's instance BVH (`sweep`, at most InstanceBoxes::kMaxCopies: render/instance_sweep.h), or
+// `automatic`: the sweep up to kMaxCopies Embree instances, native below kInstanceArrayThreshold,
+// the array from there on. The scene file's `[render] instancing`.
+enum class InstanceLevel : uint8_t { automatic, native, array, sweep };
 
 // Gives `points` exactly one spare element of capacity past its end, zeroed (any other spare
 // capacity is shed). Embree reads each vertex with a 16-byte load, so the last one's load reaches 4

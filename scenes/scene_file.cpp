@@ -136,8 +136,10 @@ class SceneParser {
       out_.scene.instance_level = InstanceLevel::native;
     else if (instancing == "array")
       out_.scene.instance_level = InstanceLevel::array;
+    else if (instancing == "sweep")
+      out_.scene.instance_level = InstanceLevel::sweep;
     else
-      t->fail("instancing", "instancing must be \"auto\", \"native\" or \"array\"");
+      t->fail("instancing", "instancing must be \"auto\", \"native\", \"array\" or \"sweep\"");
   }
 
   void parse_bands(const Params& root) {

@@ -1,6 +1,7 @@
-// The instance array (render/embree_scene.h, Scene::instance_level): placed copies as one Embree
-// user geometry give the same hits, labels and images as Embree's native instances, in world units
-// under scaled transforms, deterministically, in bounded memory.
+// The instance levels (render/embree_scene.h, Scene::instance_level): placed copies as one Embree
+// user geometry (the array), or traced by the sweep instead of Embree's instance BVH, give the same
+// hits, labels and images as Embree's native instances, in world units under scaled transforms,
+// deterministically, in bounded memory.
 
 #include "render_test_scenes.h"
 
@@ -19,115 +20,6 @@
 
 namespace sylva::test {
 namespace {
-
-Scene with_level(Scene s, InstanceLevel level) {
-  s.instance_level = level;
-  return s;
-}
-
-// A ground, then a 5 x 4 stand of three kinds of prototypes — alpha-cut leaf clouds, boxes, grass
-// patches — each copy turned, scaled non-uniformly (0.6–1.8) and labelled with its own object,
-// class and variant ids; a leaf cloud hangs over every box so shadows cross prototypes.
-Scene stand_scene() {
-  Scene s;
-  s.camera.position = {0, -6.5f, 2.5f};
-  s.camera.target = {0, 1.5f, 1.0f};
-  s.sun.elevation_deg = 40;
-  s.sun.azimuth_deg = 150;
-  const uint32_t soil = s.add_material("soil", make_diffuse("soil", DenseSpectrum::constant(0.2f)));
-  const uint32_t bark = s.add_material("bark", make_diffuse("bark", DenseSpectrum::constant(0.35f)));
-  const uint32_t leaf =
-      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
-  Prototype ground;
-  ground.triangles = make_plane(100, 100);
-  ground.triangle_material = soil;
-  s.instances.push_back({s.add_prototype(std::move(ground)), Mat4(1.0f), 0, kClassTerrain, 0});
-  const uint32_t cloud = s.add_prototype(leaf_cloud_prototype(leaf, 400, 7));
-  Prototype box;
-  box.triangles = make_box(Vec3(0.6f, 0.4f, 1.2f));
-  box.triangle_material = bark;
-  const uint32_t trunk = s.add_prototype(std::move(box));
-  Prototype grass;
-  GrassParams gp;
-  gp.patch_size_m = 1.5f;
-  gp.density_per_m2 = 300.0f;
-  grass.curves = make_grass_patch(gp, 3);
-  grass.curve_material = leaf;
-  const uint32_t patch = s.add_prototype(std::move(grass));
-  uint32_t object = 1;
-  for (int row = 0; row < 4; ++row)
-    for (int col = 0; col < 5; ++col) {
-      const float x = -4.0f + 2.0f * static_cast<float>(col) + 0.3f * static_cast<float>(row % 2);
-      const float y = -1.0f + 2.2f * static_cast<float>(row);
-      const float turn = 0.7f * static_cast<float>(row * 5 + col);
-      const Vec3 scale(0.6f + 0.06f * static_cast<float>(col * 4 + row), 0.8f + 0.1f * static_cast<float>(row),
-                       1.0f + 0.2f * static_cast<float>(col % 3));
-      const Mat4 placed =
-          glm::scale(glm::rotate(glm::translate(Mat4(1.0f), Vec3(x, y, 0.0f)), turn, Vec3(0, 0, 1)), scale);
-      const uint32_t kind = static_cast<uint32_t>(row * 5 + col) % 3;
-      if (kind == 0) {
-        s.instances.push_back({trunk, placed, object++, kFirstNamedClass, 1});
-        s.instances.push_back({cloud, glm::translate(placed, Vec3(0, 0, 1.6f)), object++, kFirstNamedClass, 2});
-      } else if (kind == 1) {
-        s.instances.push_back({cloud, glm::translate(placed, Vec3(0, 0, 1.0f)), object++, kFirstNamedClass + 1, 3});
-      } else {
-        s.instances.push_back({patch, placed, object++, kClassGrass, 0});
-      }
-    }
-  return s;
-}
-
-Image render_with(const Scene& scene, int w, int h, int spp, uint64_t seed, int threads = 0,
-                  const TransportFaults& faults = {}) {
-  RenderSettings settings = test_settings(w, h, spp, 16);
-  settings.seed = seed;
-  settings.threads = threads;
-  const EmbreeScene embree(scene, faults);
-  Renderer r(scene, embree, settings, faults);
-  Film film = r.make_film();
-  r.render(film);
-  return r.make_image(film);
-}
-
-struct Agreement {
-  double worst_mean_z = 0;   // the largest |z| of a channel's image-mean difference
-  int rejecting_pixels = 0;  // pixel-channels with |z| above the Sidak threshold
-  int pixel_channels = 0;
-};
-
-// Two independent renders (different seeds) of the same scene: per channel the z-score of the
-// difference of the image means, and per pixel-channel the z-score with the pooled variance of both
-// means (docs/compare.md, as the golden checks).
-Agreement agreement(const Image& a, const Image& b, double pixel_z) {
-  Agreement out;
-  for (const char* channel : {"R", "G", "B", "nir.Y"}) {
-    const int c = a.find_channel(channel), v = a.find_channel(std::string("var.") + channel);
-    EXPECT_GE(c, 0);
-    EXPECT_GE(v, 0);
-    double sum = 0, var = 0;
-    for (int y = 0; y < a.height; ++y)
-      for (int x = 0; x < a.width; ++x) {
-        const double d = static_cast<double>(a.at(x, y, c)) - b.at(x, y, c);
-        const double pooled = static_cast<double>(a.at(x, y, v)) + b.at(x, y, v);
-        sum += d;
-        var += pooled;
-        ++out.pixel_channels;
-        if (pooled > 0 ? std::abs(d) > pixel_z * std::sqrt(pooled) : d != 0) ++out.rejecting_pixels;
-      }
-    out.worst_mean_z = std::max(out.worst_mean_z, var > 0 ? std::abs(sum) / std::sqrt(var) : 0.0);
-  }
-  return out;
-}
-
-// Pixels whose first-hit label `channel` differs.
-int label_mismatches(const Image& a, const Image& b, const char* channel) {
-  const int c = a.find_channel(channel);
-  EXPECT_GE(c, 0);
-  int n = 0;
-  for (int y = 0; y < a.height; ++y)
-    for (int x = 0; x < a.width; ++x) n += a.at(x, y, c) != b.at(x, y, c);
-  return n;
-}
 
 constexpr int kW = 96, kH = 54;
 // Sidak threshold for alpha = 0.01 over kW·kH·4 pixel-channels: |z| > 5.0 (two-sided).
@@ -166,10 +58,11 @@ TEST(InstanceArray, HitDistancesAreWorldDistancesUnderScale) {
   Bounds3 object;
   for (const Vec3& p : s.prototypes[0].triangles.positions) object.extend(p);
   const float top = 1.0f + 4.0f * object.hi.z;
-  for (InstanceLevel level : {InstanceLevel::native, InstanceLevel::array}) {
+  for (InstanceLevel level : {InstanceLevel::native, InstanceLevel::array, InstanceLevel::sweep}) {
     const Scene scene = with_level(s, level);
     const EmbreeScene embree(scene);
     EXPECT_EQ(embree.stats().instance_array, level == InstanceLevel::array);
+    EXPECT_EQ(embree.stats().instance_sweep, level == InstanceLevel::sweep);
     RayHit hit;
     // Straight down onto the top face, and slanted (direction not normalised: t in its units).
     ASSERT_TRUE(embree.intersect(Ray{Vec3(10.5f, -3.2f, 20.0f), Vec3(0, 0, -1), 100.0f}, &hit));
@@ -215,9 +108,9 @@ TEST(InstanceArray, SameImageAsNativeInstances) {
 // rays differ in their last bits and a ray grazing an edge within those bits may go either way.
 constexpr int kMaxLabelMismatches = kW * kH / 1000;
 
-void expect_same_labels(const Scene& s, const char* what) {
+void expect_same_labels(const Scene& s, const char* what, InstanceLevel level = InstanceLevel::array) {
   const Image native = render_with(with_level(s, InstanceLevel::native), kW, kH, 1, 5);
-  const Image array = render_with(with_level(s, InstanceLevel::array), kW, kH, 1, 5);
+  const Image array = render_with(with_level(s, level), kW, kH, 1, 5);
   for (const char* channel : {"id.instance", "id.object", "id.class", "id.variant"}) {
     const int n = label_mismatches(native, array, channel);
     std::printf("[instance array] %s %s: %d of %d pixels differ\n", what, channel, n, kW * kH);
@@ -247,6 +140,34 @@ void expect_same_labels(const Scene& s, const char* what) {
 }
 
 TEST(InstanceArray, SameLabelsAsNativeInstances) { expect_same_labels(stand_scene(), "open"); }
+
+// The sweep (render/instance_sweep.h) moves rays into object space as the array does: the same
+// labels, depths and normals as Embree's instance BVH, up to the same grazing rays.
+TEST(InstanceSweep, SameLabelsAsNativeInstances) { expect_same_labels(stand_scene(), "sweep", InstanceLevel::sweep); }
+
+TEST(InstanceSweep, SameImageAsNativeInstances) {
+  const Scene s = stand_scene();
+  const Image native = render_with(with_level(s, InstanceLevel::native), kW, kH, 48, 11);
+  const Image sweep = render_with(with_level(s, InstanceLevel::sweep), kW, kH, 48, 12);
+  const Agreement same = agreement(native, sweep, kPixelZ);
+  std::printf("[instance sweep] native vs sweep: worst mean |z| %.2f, %d of %d pixel-channels reject\n",
+              same.worst_mean_z, same.rejecting_pixels, same.pixel_channels);
+  EXPECT_LT(same.worst_mean_z, 4.0);
+  EXPECT_LE(same.rejecting_pixels, same.pixel_channels / 400);
+  // The same comparison sees a fault inside the prototypes the sweep enters.
+  TransportFaults faults;
+  faults.no_shadow_alpha = true;
+  const Agreement wrong =
+      agreement(native, render_with(with_level(s, InstanceLevel::sweep), kW, kH, 48, 12, 0, faults), kPixelZ);
+  EXPECT_TRUE(wrong.worst_mean_z >= 4.0 || wrong.rejecting_pixels > wrong.pixel_channels / 400);
+}
+
+TEST(InstanceSweep, BitIdenticalAtAnyThreadCount) {
+  const Scene s = with_level(stand_scene(), InstanceLevel::sweep);
+  const Image one = render_with(s, 48, 27, 4, 3, 1);
+  EXPECT_TRUE(same_bits(one, render_with(s, 48, 27, 4, 3, 2)));
+  EXPECT_TRUE(same_bits(one, render_with(s, 48, 27, 4, 3, 4)));
+}
 
 TEST(InstanceArray, SameLabelsInACyclicPlot) {
   Scene s = stand_scene();

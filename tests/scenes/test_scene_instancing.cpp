@@ -18,12 +18,14 @@ TEST(SceneInstancing, LevelFromTheRenderTable) {
             InstanceLevel::native);
   EXPECT_EQ(parse_scene("[render]\ninstancing = \"array\"\n", "r.toml", dir).scene.instance_level,
             InstanceLevel::array);
+  EXPECT_EQ(parse_scene("[render]\ninstancing = \"sweep\"\n", "s.toml", dir).scene.instance_level,
+            InstanceLevel::sweep);
   try {
     parse_scene("[render]\nspp = 2\ninstancing = \"nested\"\n", "bad.toml", dir);
     FAIL() << "accepted instancing = \"nested\"";
   } catch (const ParseError& e) {
     EXPECT_NE(std::string(e.what()).find("bad.toml:3"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("\"array\""), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("\"array\" or \"sweep\""), std::string::npos) << e.what();
   }
 }
 
