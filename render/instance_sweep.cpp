@@ -1,25 +1,13 @@
 #include "render/instance_sweep.h"
 
 #include "core/error.h"
-#include "core/simd.h"
 
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <bit>
 #include <limits>
 
 namespace sylva {
-
-namespace {
-
-// The slab distances widened by a few ulps, as Embree's robust traversal does: the distance
-// (b − o)·(1/d) is a difference before the product, so its error is relative to the distance itself
-// however far the origin lies from the box, and these factors cover it.
-constexpr float kSlabDown = 1.0f - 4.0f * std::numeric_limits<float>::epsilon();
-constexpr float kSlabUp = 1.0f + 4.0f * std::numeric_limits<float>::epsilon();
-
-}  // namespace
 
 InstanceBoxes::InstanceBoxes(const std::vector<Bounds3>& boxes) : boxes_(boxes) {
   if (boxes.size() > kMaxCopies)
@@ -56,18 +44,6 @@ InstanceBoxes::InstanceBoxes(const std::vector<Bounds3>& boxes) : boxes_(boxes) 
     }
 }
 
-bool InstanceBoxes::contains(size_t j, const Vec3& p) const {
-  const Bounds3& b = boxes_[j];
-  return p.x >= b.lo.x && p.y >= b.lo.y && p.z >= b.lo.z && p.x <= b.hi.x && p.y <= b.hi.y && p.z <= b.hi.z;
-}
-
-Vec3 InstanceBoxes::inverse_direction(const Vec3& d) {
-  const __m128 v = _mm_setr_ps(d.x, d.y, d.z, 1.0f);
-  const __m128 sign_bit = _mm_set1_ps(-0.0f);
-  const __m128 magnitude = _mm_max_ps(_mm_andnot_ps(sign_bit, v), _mm_set1_ps(1e-18f));
-  return simd::store(_mm_div_ps(_mm_set1_ps(1.0f), _mm_or_ps(magnitude, _mm_and_ps(v, sign_bit))));
-}
-
 namespace {
 
 // InstanceBoxes::meet's eight lanes at a time.
@@ -76,7 +52,7 @@ __attribute__((target("avx"))) uint64_t meet_avx(const float* lanes, size_t grou
   const __m256 ox = _mm256_set1_ps(o.x), oy = _mm256_set1_ps(o.y), oz = _mm256_set1_ps(o.z);
   const __m256 ix = _mm256_set1_ps(inv.x), iy = _mm256_set1_ps(inv.y), iz = _mm256_set1_ps(inv.z);
   const __m256 zero = _mm256_setzero_ps(), far = _mm256_set1_ps(t_max);
-  const __m256 down = _mm256_set1_ps(kSlabDown), up = _mm256_set1_ps(kSlabUp);
+  const __m256 down = _mm256_set1_ps(InstanceBoxes::kSlabDown), up = _mm256_set1_ps(InstanceBoxes::kSlabUp);
   uint64_t meets = 0;
   for (size_t g = 0; g < groups; ++g) {
     const float* b = lanes + 6 * InstanceBoxes::kLanes * g;
@@ -106,20 +82,6 @@ uint64_t InstanceBoxes::meet(const Vec3& o, const Vec3& inv, float t_max, float*
   return meet_avx(lanes_.empty() ? nullptr : lanes_[0].v, lanes_.size() / 6, o, inv, t_max, near) & valid_;
 }
 
-float InstanceBoxes::entry(size_t j, const Vec3& o, const Vec3& inv, float t_max) const {
-  // meet_avx's operations for one lane (a minimum or maximum of two equal values may differ in the
-  // sign of a zero, which no decision reads).
-  const Bounds3& b = boxes_[j];
-  float t_in = 0.0f, t_out = t_max;
-  for (int a = 0; a < 3; ++a) {
-    const float t0 = (b.lo[a] - o[a]) * inv[a], t1 = (b.hi[a] - o[a]) * inv[a];
-    t_in = std::max(t_in, std::min(t0, t1));
-    t_out = std::min(t_out, std::max(t0, t1));
-  }
-  const float near = t_in * kSlabDown;
-  return near <= t_out * kSlabUp ? near : std::numeric_limits<float>::infinity();
-}
-
 uint64_t InstanceBoxes::meet_portable(const Vec3& o, const Vec3& inv, float t_max, float* near) const {
   uint64_t meets = 0;
   for (uint64_t m = valid_; m != 0; m &= m - 1) {
@@ -128,16 +90,6 @@ uint64_t InstanceBoxes::meet_portable(const Vec3& o, const Vec3& inv, float t_ma
     meets |= static_cast<uint64_t>(near[j] < std::numeric_limits<float>::infinity()) << j;
   }
   return meets;
-}
-
-size_t take_nearest(uint64_t& left, const float* near) {
-  auto best = static_cast<size_t>(std::countr_zero(left));
-  for (uint64_t m = left & (left - 1); m != 0; m &= m - 1) {
-    const auto j = static_cast<size_t>(std::countr_zero(m));
-    if (near[j] < near[best]) best = j;
-  }
-  left &= ~(uint64_t{1} << best);
-  return best;
 }
 
 }  // namespace sylva
