@@ -48,16 +48,24 @@ inline Prototype leaf_cloud_prototype(uint32_t leaf, int count, uint64_t seed) {
   return p;
 }
 
+// A scene without geometry seen from `position` towards `target` under the sun at `elevation_deg`
+// and `azimuth_deg`, with grey soil (ρ 0.2) and leaf (ρ 0.3, τ 0.4) materials, 0 and 1.
+inline Scene grey_scene(Vec3 position, Vec3 target, float elevation_deg, float azimuth_deg) {
+  Scene s;
+  s.camera.position = position;
+  s.camera.target = target;
+  s.sun.elevation_deg = elevation_deg;
+  s.sun.azimuth_deg = azimuth_deg;
+  s.add_material("soil", make_diffuse("soil", DenseSpectrum::constant(0.2f)));
+  s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
+  return s;
+}
+constexpr uint32_t kGreySoil = 0, kGreyLeaf = 1;
+
 // Ground, sun and sky, and two instances of one alpha-cut leaf cloud (object id 1).
 inline Scene small_forest_scene() {
-  Scene s;
-  s.camera.position = {0, -5, 1.5f};
-  s.camera.target = {0, 0, 1.0f};
-  s.sun.elevation_deg = 35;
-  s.sun.azimuth_deg = 160;
-  const uint32_t soil = s.add_material("soil", make_diffuse("soil", DenseSpectrum::constant(0.2f)));
-  const uint32_t leaf =
-      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
+  Scene s = grey_scene({0, -5, 1.5f}, {0, 0, 1.0f}, 35, 160);
+  const uint32_t soil = kGreySoil, leaf = kGreyLeaf;
   s.instances.push_back(
       {s.add_prototype(Prototype{"ground", make_plane(100, 100), soil, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
   Prototype crown;
@@ -96,15 +104,9 @@ inline Scene with_level(Scene s, InstanceLevel level) {
 // patches — each copy turned, scaled non-uniformly (0.6–1.8) and labelled with its own object,
 // class and variant ids; a leaf cloud hangs over every box so shadows cross prototypes.
 inline Scene stand_scene() {
-  Scene s;
-  s.camera.position = {0, -6.5f, 2.5f};
-  s.camera.target = {0, 1.5f, 1.0f};
-  s.sun.elevation_deg = 40;
-  s.sun.azimuth_deg = 150;
-  const uint32_t soil = s.add_material("soil", make_diffuse("soil", DenseSpectrum::constant(0.2f)));
+  Scene s = grey_scene({0, -6.5f, 2.5f}, {0, 1.5f, 1.0f}, 40, 150);
+  const uint32_t soil = kGreySoil, leaf = kGreyLeaf;
   const uint32_t bark = s.add_material("bark", make_diffuse("bark", DenseSpectrum::constant(0.35f)));
-  const uint32_t leaf =
-      s.add_material("leaf", make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.4f)));
   Prototype ground;
   ground.triangles = make_plane(100, 100);
   ground.triangle_material = soil;

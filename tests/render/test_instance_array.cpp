@@ -82,25 +82,27 @@ TEST(InstanceArray, HitDistancesAreWorldDistancesUnderScale) {
   }
 }
 
-TEST(InstanceArray, SameImageAsNativeInstances) {
+// Renders of the stand through native instances and through `level` (other seeds) agree, and the
+// comparison has the power to see a fault inside the prototypes reached that way: shadow rays that
+// ignore the leaf outlines (the golden suite's fault, render/testing/faults.h).
+void expect_same_image(InstanceLevel level, const char* what) {
   const Scene s = stand_scene();
   const Image native = render_with(with_level(s, InstanceLevel::native), kW, kH, 48, 11);
-  const Image array = render_with(with_level(s, InstanceLevel::array), kW, kH, 48, 12);
-  const Agreement same = agreement(native, array, kPixelZ);
-  std::printf("[instance array] native vs array: worst mean |z| %.2f, %d of %d pixel-channels reject\n",
+  const Image other = render_with(with_level(s, level), kW, kH, 48, 12);
+  const Agreement same = agreement(native, other, kPixelZ);
+  std::printf("[instance levels] native vs %s: worst mean |z| %.2f, %d of %d pixel-channels reject\n", what,
               same.worst_mean_z, same.rejecting_pixels, same.pixel_channels);
   EXPECT_LT(same.worst_mean_z, 4.0);
   EXPECT_LE(same.rejecting_pixels, same.pixel_channels / 400);  // 0.25 %, as the golden checks
-  // The comparison has the power to see a fault inside the prototypes reached through the array:
-  // shadow rays that ignore the leaf outlines (the golden suite's fault, render/testing/faults.h).
   TransportFaults faults;
   faults.no_shadow_alpha = true;
-  const Agreement wrong =
-      agreement(native, render_with(with_level(s, InstanceLevel::array), kW, kH, 48, 12, 0, faults), kPixelZ);
-  std::printf("[instance array] native vs array without shadow alpha: worst mean |z| %.2f, %d pixel-channels reject\n",
-              wrong.worst_mean_z, wrong.rejecting_pixels);
+  const Agreement wrong = agreement(native, render_with(with_level(s, level), kW, kH, 48, 12, 0, faults), kPixelZ);
+  std::printf("[instance levels] native vs %s without shadow alpha: worst mean |z| %.2f, %d pixel-channels reject\n",
+              what, wrong.worst_mean_z, wrong.rejecting_pixels);
   EXPECT_TRUE(wrong.worst_mean_z >= 4.0 || wrong.rejecting_pixels > wrong.pixel_channels / 400);
 }
+
+TEST(InstanceArray, SameImageAsNativeInstances) { expect_same_image(InstanceLevel::array, "array"); }
 
 // The first-hit labels and geometry AOVs come from one ray through each pixel centre: the same hit
 // on both paths. Not bit for bit everywhere: Embree inverts a native instance's transform with its
@@ -145,22 +147,7 @@ TEST(InstanceArray, SameLabelsAsNativeInstances) { expect_same_labels(stand_scen
 // labels, depths and normals as Embree's instance BVH, up to the same grazing rays.
 TEST(InstanceSweep, SameLabelsAsNativeInstances) { expect_same_labels(stand_scene(), "sweep", InstanceLevel::sweep); }
 
-TEST(InstanceSweep, SameImageAsNativeInstances) {
-  const Scene s = stand_scene();
-  const Image native = render_with(with_level(s, InstanceLevel::native), kW, kH, 48, 11);
-  const Image sweep = render_with(with_level(s, InstanceLevel::sweep), kW, kH, 48, 12);
-  const Agreement same = agreement(native, sweep, kPixelZ);
-  std::printf("[instance sweep] native vs sweep: worst mean |z| %.2f, %d of %d pixel-channels reject\n",
-              same.worst_mean_z, same.rejecting_pixels, same.pixel_channels);
-  EXPECT_LT(same.worst_mean_z, 4.0);
-  EXPECT_LE(same.rejecting_pixels, same.pixel_channels / 400);
-  // The same comparison sees a fault inside the prototypes the sweep enters.
-  TransportFaults faults;
-  faults.no_shadow_alpha = true;
-  const Agreement wrong =
-      agreement(native, render_with(with_level(s, InstanceLevel::sweep), kW, kH, 48, 12, 0, faults), kPixelZ);
-  EXPECT_TRUE(wrong.worst_mean_z >= 4.0 || wrong.rejecting_pixels > wrong.pixel_channels / 400);
-}
+TEST(InstanceSweep, SameImageAsNativeInstances) { expect_same_image(InstanceLevel::sweep, "sweep"); }
 
 TEST(InstanceSweep, BitIdenticalAtAnyThreadCount) {
   const Scene s = with_level(stand_scene(), InstanceLevel::sweep);
