@@ -321,19 +321,32 @@ void set_rtc_ray(RTCRay& r, const Vec3& o, const Vec3& d, float tnear, float tfa
 #endif
 }
 
+// Copy `copy` of instance `inst` (kCellShifts[copy] periods away): the inverse of its linear part
+// and its world origin, which move a ray into its object space (set_object_ray).
+struct CopyFrame {
+  Mat3 object_from_world;
+  Vec3 origin;
+};
+CopyFrame copy_frame(const Instance& inst, uint32_t copy, Vec2 period) {
+  const Mat4& world_from_object = inst.world_from_object;
+  return {glm::inverse(Mat3(world_from_object)), Vec3(world_from_object[3]) + Vec3(kCellShifts[copy] * period, 0.0f)};
+}
+
+// The world ray o + t·d moved into a copy's object space, written into `r`: the origin relative to
+// the copy's own origin first, then turned and scaled (the subtraction cancels the large world
+// coordinates before any rounding of a product); the direction not renormalised, so t means the
+// same in both spaces.
+void set_object_ray(RTCRay& r, const CopyFrame& f, const Vec3& o, const Vec3& d, float tnear, float tfar,
+                    float time = 0.0f, unsigned mask = 0xffffffffu) {
+  set_rtc_ray(r, f.object_from_world * (o - f.origin), f.object_from_world * d, tnear, tfar, time, mask);
+}
+
 // Ray `j` of `rays` moved into the object space of array primitive `prim`, written into `r`.
 void set_array_object_ray(RTCRay& r, const InstanceArray& a, unsigned prim, RTCRayN* rays, unsigned n, unsigned j) {
-  const Mat4& world_from_object = a.instances[prim % a.count].world_from_object;
-  const Mat3 object_from_world = glm::inverse(Mat3(world_from_object));
-  // The origin relative to the copy's own origin first, then turned and scaled: the subtraction
-  // cancels the large world coordinates before any rounding of a product.
-  const Vec3 origin = Vec3(world_from_object[3]) + Vec3(kCellShifts[prim / a.count] * a.period, 0.0f);
   const Vec3 o(RTCRayN_org_x(rays, n, j), RTCRayN_org_y(rays, n, j), RTCRayN_org_z(rays, n, j));
   const Vec3 d(RTCRayN_dir_x(rays, n, j), RTCRayN_dir_y(rays, n, j), RTCRayN_dir_z(rays, n, j));
-  const Vec3 o_obj = object_from_world * (o - origin);
-  const Vec3 d_obj = object_from_world * d;
-  set_rtc_ray(r, o_obj, d_obj, RTCRayN_tnear(rays, n, j), RTCRayN_tfar(rays, n, j), RTCRayN_time(rays, n, j),
-              RTCRayN_mask(rays, n, j));
+  set_object_ray(r, copy_frame(a.instances[prim % a.count], prim / a.count, a.period), o, d, RTCRayN_tnear(rays, n, j),
+                 RTCRayN_tfar(rays, n, j), RTCRayN_time(rays, n, j), RTCRayN_mask(rays, n, j));
 }
 
 void array_intersect(const RTCIntersectFunctionNArguments* args) {
@@ -372,11 +385,10 @@ void array_occluded(const RTCOccludedFunctionNArguments* args) {
 }
 
 // The sweep (render/instance_sweep.h): a scene of at most InstanceBoxes::kMaxCopies copies traced
-// without Embree's instance BVH. Each copy as the sweep enters it: the ray moved into its object
-// space as for the instance array, and its prototype's BVH.
+// without Embree's instance BVH. Each copy as the sweep enters it: its frame (the ray moved into its
+// object space as for the instance array) and its prototype's BVH.
 struct SweepCopy {
-  Mat3 object_from_world;  // the inverse of the copy's linear part
-  Vec3 origin;             // the copy's world origin (its translation and cell shift)
+  CopyFrame frame;
   RTCScene prototype = nullptr;
   unsigned id = 0;  // the Embree instance id it stands for: copy k of instance i is k·N + i
 };
@@ -389,7 +401,7 @@ struct InstanceSweep {
 // Copy `c`'s closest hit along o + t·d, t in [0, t_max), into `rh` (its instID[0] the copy's id).
 bool enter_copy(const SweepCopy& c, const Vec3& o, const Vec3& d, float t_max, RTCRayHit& rh) {
   RTCRayHit h;  // Embree reads only the ray and the hit's ids
-  set_rtc_ray(h.ray, c.object_from_world * (o - c.origin), c.object_from_world * d, 0.0f, t_max);
+  set_object_ray(h.ray, c.frame, o, d, 0.0f, t_max);
   h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   RTCIntersectContext context;
@@ -403,7 +415,7 @@ bool enter_copy(const SweepCopy& c, const Vec3& o, const Vec3& d, float t_max, R
 
 bool copy_occludes(const SweepCopy& c, const Vec3& o, const Vec3& d, float t_max) {
   RTCRay r;
-  set_rtc_ray(r, c.object_from_world * (o - c.origin), c.object_from_world * d, 0.0f, t_max);
+  set_object_ray(r, c.frame, o, d, 0.0f, t_max);
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   rtcOccluded1(c.prototype, &context, &r);
@@ -502,8 +514,8 @@ struct EmbreeScene::Impl {
   // into them, the prototypes' scenes and the Scene's instances.
   std::vector<Bounds3> prototype_bounds;
   InstanceArray array;
-  // A scene of few copies (kSweepMax): traced by the sweep, not through `top` (which is still built,
-  // for the scene's bounds).
+  // A scene of few copies (uses_instance_sweep): traced by the sweep, not through `top` (which is
+  // still built, for the scene's bounds).
   InstanceSweep sweep;
   bool sweeping = false;
   // Cyclic plot: the cell [lo, hi] (x, y), its period, and the heights outside which no geometry lies.
@@ -901,9 +913,8 @@ void EmbreeScene::add_sweep(const Scene& scene, int copies) {
   for (size_t j = 0; j < total; ++j) {
     const auto i = static_cast<uint32_t>(j % n), k = static_cast<uint32_t>(j / n);
     const Instance& inst = scene.instances[i];
-    m.sweep.copies.push_back(SweepCopy{glm::inverse(Mat3(inst.world_from_object)),
-                                       Vec3(inst.world_from_object[3]) + Vec3(kCellShifts[k] * m.period, 0.0f),
-                                       m.prototypes[inst.prototype], static_cast<unsigned>(j)});
+    m.sweep.copies.push_back(
+        SweepCopy{copy_frame(inst, k, m.period), m.prototypes[inst.prototype], static_cast<unsigned>(j)});
     boxes.push_back(array_instance_bounds(m.array, i, k));
   }
   m.sweep.boxes = InstanceBoxes(boxes);
