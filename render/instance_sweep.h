@@ -59,10 +59,10 @@ class InstanceBoxes {
   static constexpr float kSlabUp = 1.0f + 4.0f * std::numeric_limits<float>::epsilon();
 
   // The boxes the segment o + t·d, 0 <= t <= t_max, meets (bit j: box j; inv = inverse_direction(d))
-  // and a lower bound of where it enters each, near[j] (near: kMaxCopies floats, 32-byte aligned; whole groups of
-  // kLanes are written). Conservative, as Embree's robust traversal: the slab distances (b − o)·(1/d) are widened by a
-  // few ulps, so rounding never drops a box the segment grazes. AVX where the processor has it,
-  // meet_portable elsewhere: the same bits.
+  // and a lower bound of where it enters each, near[j]. `near` holds kMaxCopies floats, 32-byte
+  // aligned: whole groups of kLanes are written. Conservative, as Embree's robust traversal: the
+  // slab distances (b − o)·(1/d) are widened by a few ulps, so rounding never drops a box the
+  // segment grazes. AVX where the processor has it, meet_portable elsewhere: the same bits.
   uint64_t meet(const Vec3& o, const Vec3& inv, float t_max, float* near) const;
   // The same a box at a time, without AVX (the operations of meet's lanes, one by one).
   uint64_t meet_portable(const Vec3& o, const Vec3& inv, float t_max, float* near) const;
