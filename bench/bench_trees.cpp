@@ -13,11 +13,11 @@
 namespace {
 
 // The species files next to this source (CMake passes sources by absolute path).
-const std::filesystem::path kSpeciesDir =
+const std::filesystem::path kTreeSpeciesDir =
     std::filesystem::path(__FILE__).parent_path().parent_path() / "data" / "species";
 
 void bench_species(benchmark::State& state, const char* file) {
-  const sylva::Species species = sylva::load_species(kSpeciesDir / file);
+  const sylva::Species species = sylva::load_species(kTreeSpeciesDir / file);
   uint64_t seed = 1;
   size_t triangles = 0, leaves = 0;
   for (auto _ : state) {
@@ -41,7 +41,7 @@ void BM_AbopStochastic(benchmark::State& state) { bench_species(state, "abop_sto
 void BM_AbopMonopodial(benchmark::State& state) { bench_species(state, "abop_monopodial.lsys"); }
 
 void bench_generate_only(benchmark::State& state, const char* file) {
-  const sylva::Species species = sylva::load_species(kSpeciesDir / file);
+  const sylva::Species species = sylva::load_species(kTreeSpeciesDir / file);
   for (auto _ : state) {
     const sylva::TreeModel model = sylva::make_species_model(species, 1);
     benchmark::DoNotOptimize(model.sections.positions.data());
@@ -50,7 +50,7 @@ void bench_generate_only(benchmark::State& state, const char* file) {
 
 // TREE-MAKER (Neighbors & Hodges §II): the paper's dogwood, growth and meshing, and growth alone.
 void BM_DogwoodTemplate(benchmark::State& state) {
-  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
+  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kTreeSpeciesDir / "dogwood.tmpl");
   size_t triangles = 0, leaves = 0;
   for (auto _ : state) {
     const sylva::TreeMesh mesh = sylva::make_tree_mesh(sylva::make_treemaker_tree(t, 1));
@@ -63,7 +63,7 @@ void BM_DogwoodTemplate(benchmark::State& state) {
 }
 
 void BM_DogwoodTemplateGenerateOnly(benchmark::State& state) {
-  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
+  const sylva::TreeMakerTemplate t = sylva::load_treemaker_template(kTreeSpeciesDir / "dogwood.tmpl");
   for (auto _ : state) {
     const sylva::TreeModel model = sylva::make_treemaker_tree(t, 1);
     benchmark::DoNotOptimize(model.sections.positions.data());

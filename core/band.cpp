@@ -5,7 +5,7 @@
 #include "core/simd.h"
 #include "core/table.h"
 
-#include <immintrin.h>
+#include <emmintrin.h>  // SSE2 only: the x86-64 baseline (docs/design.md §10, "Build cost")
 #include <algorithm>
 #include <bit>
 #include <cmath>

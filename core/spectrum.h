@@ -7,7 +7,7 @@
 
 #include "core/math.h"
 
-#include <immintrin.h>
+#include <emmintrin.h>  // SSE2 only: the x86-64 baseline (docs/design.md §10, "Build cost")
 
 #include <filesystem>
 #include <optional>

@@ -4,6 +4,8 @@
 
 #include <fmt/core.h>
 
+#include <immintrin.h>  // AVX: the sweep's box test
+
 #include <algorithm>
 #include <limits>
 

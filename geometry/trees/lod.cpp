@@ -9,7 +9,7 @@ namespace {
 
 float clamp01(float x) { return std::clamp(x, 0.0f, 1.0f); }
 
-Vec3 safe_normalize(const Vec3& v, const Vec3& fallback) {
+Vec3 normalize_or(const Vec3& v, const Vec3& fallback) {
   const float len = glm::length(v);
   return len > 0.0f ? v / len : fallback;
 }
@@ -241,7 +241,7 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
       ++out.counts.leaf_quads;
     } else {
       const Vec3 centre = 0.25f * (c[0] + c[1] + c[2] + c[3]);
-      const Vec3 normal = safe_normalize(glm::cross(c[1] - c[0], c[3] - c[0]), Vec3(0, 0, 1));
+      const Vec3 normal = normalize_or(glm::cross(c[1] - c[0], c[3] - c[0]), Vec3(0, 0, 1));
       const float area = leaf_quad_area(quads, i) * leaf_shape_coverage(quads.shapes[i]);
       out.discs.add(petiole + k * (centre - petiole), k * std::sqrt(area / kPi), normal);
       out.disc_slot.push_back(static_cast<uint8_t>(slot_of(i)));

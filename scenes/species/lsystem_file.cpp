@@ -20,7 +20,7 @@ namespace {
 
 constexpr int kMaxNesting = 32;  // parentheses inside one expression
 
-std::string_view trim(std::string_view s) {
+std::string_view trim_blanks(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   return s;
@@ -48,7 +48,7 @@ std::string normalise_line(std::string_view raw) {
       out += c;
     }
   }
-  return std::string(trim(out));
+  return std::string(trim_blanks(out));
 }
 
 bool is_ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
@@ -288,8 +288,8 @@ class LsysReader {
     const size_t eq = line.find('=');
     if (eq == std::string::npos)
       fail(fmt::format("expected 'key = value', 'define name = value' or a production 'A -> ...', not '{}'", line));
-    const std::string key(trim(std::string_view(line).substr(0, eq)));
-    const std::string value(trim(std::string_view(line).substr(eq + 1)));
+    const std::string key(trim_blanks(std::string_view(line).substr(0, eq)));
+    const std::string value(trim_blanks(std::string_view(line).substr(eq + 1)));
     if (value.empty()) fail(fmt::format("'{}' needs a value", key));
     if (const auto it = seen_.find(key); it != seen_.end())
       fail(fmt::format("'{}' given twice (first on line {})", key, it->second));
@@ -362,7 +362,7 @@ class LsysReader {
       }
       v[k] = expr_at(value, pos, {}).eval({});
     }
-    if (trim(std::string_view(value).substr(pos)).size() != 0)
+    if (trim_blanks(std::string_view(value).substr(pos)).size() != 0)
       fail(fmt::format("'{}' needs three values x, y, z", key));
     if (!is_finite(v) || glm::length(v) > 1e6f) fail(fmt::format("'{}' must be finite", key));
     return v;
@@ -387,12 +387,12 @@ class LsysReader {
   void define(std::string_view rest) {
     const size_t eq = rest.find('=');
     if (eq == std::string_view::npos) fail("expected 'define name = value'");
-    const std::string name(trim(rest.substr(0, eq)));
+    const std::string name(trim_blanks(rest.substr(0, eq)));
     if (name.empty() || !is_ident_start(name[0]) ||
         !std::all_of(name.begin(), name.end(), [](char c) { return is_ident_char(c); }))
       fail(fmt::format("'{}' is not a valid name", name));
     if (defines_.count(name)) fail(fmt::format("'{}' defined twice", name));
-    defines_[name] = constant(trim(rest.substr(eq + 1)), name);
+    defines_[name] = constant(trim_blanks(rest.substr(eq + 1)), name);
   }
 
   // A word of modules; with `formals`, arguments are expressions over them (a successor),
@@ -460,7 +460,7 @@ class LsysReader {
     if (lhs.ends_with('-')) lhs.remove_suffix(1);  // "-->"
     LsProduction p;
     // Predecessor and formals.
-    lhs = trim(lhs);
+    lhs = trim_blanks(lhs);
     if (lhs.empty() || !is_symbol(lhs[0]) || lhs[0] == '[' || lhs[0] == ']')
       fail("a production needs a predecessor symbol before '->'");
     p.predecessor = lhs[0];
@@ -472,7 +472,7 @@ class LsysReader {
       std::string_view list = lhs.substr(pos + 1, close - pos - 1);
       while (true) {
         const size_t comma = list.find(',');
-        const std::string name(trim(list.substr(0, comma)));
+        const std::string name(trim_blanks(list.substr(0, comma)));
         if (name.empty() || !is_ident_start(name[0]) ||
             !std::all_of(name.begin(), name.end(), [](char ch) { return is_ident_char(ch); }))
           fail(fmt::format("'{}' is not a valid parameter name", name));
@@ -487,10 +487,10 @@ class LsysReader {
       pos = close + 1;
     }
     p.param_count = static_cast<int>(formals.size());
-    const std::string_view after = trim(lhs.substr(pos));
+    const std::string_view after = trim_blanks(lhs.substr(pos));
     if (!after.empty()) {
       if (after[0] != ':') fail(fmt::format("expected ':' or '->' after the predecessor, not '{}'", after));
-      const std::string_view cond = trim(after.substr(1));
+      const std::string_view cond = trim_blanks(after.substr(1));
       if (cond.empty()) fail("expected a condition (or '*') after ':'");
       if (cond != "*") {
         size_t cpos = 0;
@@ -499,15 +499,15 @@ class LsysReader {
       }
     }
     // Successor and probability: the last ':' (no successor symbol is ':').
-    rhs = trim(rhs);
+    rhs = trim_blanks(rhs);
     const size_t colon = rhs.rfind(':');
     if (colon != std::string_view::npos) {
-      const std::string_view prob = trim(rhs.substr(colon + 1));
+      const std::string_view prob = trim_blanks(rhs.substr(colon + 1));
       if (prob.empty()) fail("expected a probability after ':'");
       p.probability = constant(prob, "probability");
       if (!(p.probability > 0.0f) || p.probability > 1.0f)
         fail(fmt::format("the probability must be in (0, 1], not {}", prob));
-      rhs = trim(rhs.substr(0, colon));
+      rhs = trim_blanks(rhs.substr(0, colon));
     }
     p.successor = modules(rhs, formals);
     system.productions.push_back(std::move(p));
@@ -542,8 +542,8 @@ AspenGrammarSpecies parse_aspen_grammar(const std::string& text, const std::file
     if (line.empty()) continue;
     const size_t eq = line.find('=');
     if (eq == std::string::npos) fail(line_no, fmt::format("expected 'key = value', not '{}'", line));
-    const std::string key(trim(std::string_view(line).substr(0, eq)));
-    const std::string value(trim(std::string_view(line).substr(eq + 1)));
+    const std::string key(trim_blanks(std::string_view(line).substr(0, eq)));
+    const std::string value(trim_blanks(std::string_view(line).substr(eq + 1)));
     if (key.empty()) fail(line_no, "expected a key before '='");
     if (value.empty()) fail(line_no, fmt::format("'{}' needs a value", key));
     if (const auto it = seen.find(key); it != seen.end())

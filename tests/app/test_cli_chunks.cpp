@@ -16,12 +16,11 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_dir;
 using test::read_text;
+using test::q;
 using test::run_sylva;
 
 // 7 spp and 20 rows give every one of 7 chunks some work, split unevenly.
 const std::string kCommon = " --res 30x20 --spp 7 --quiet --threads 2";
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 // Renders all `n` chunks of the small objects scene into dir/<tag>.<i>.part; returns the merge arguments.
 std::string render_chunks(const fs::path& dir, const std::string& tag, int n, const std::string& split,

@@ -15,14 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::fresh_dir;
+using test::q;
 using test::run_sylva;
 
-std::string q(const fs::path& p) {
-  std::string quoted(1, '\'');
-  quoted += p.string();
-  quoted += '\'';
-  return quoted;
-}
 
 // The scene with `terrain_source` as the terrain's first key.
 std::string scene(const std::string& terrain_source) {

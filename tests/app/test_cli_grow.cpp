@@ -14,6 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_dir;
 using test::read_text;
+using test::q;
 using test::run_sylva;
 
 fs::path write_species(const fs::path& dir) {
@@ -21,8 +22,6 @@ fs::path write_species(const fs::path& dir) {
   std::ofstream(p) << "model = \"hart-baker\"\nname = \"Small\"\nyears = 5\n[light]\nresolution = 96\n";
   return p;
 }
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 TEST(CliGrow, WritesEveryOutput) {
   const fs::path dir = fresh_dir("cli_grow_outputs");

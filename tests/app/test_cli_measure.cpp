@@ -15,6 +15,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_dir;
 using test::read_text;
+using test::q;
 using test::run_sylva;
 
 const char* const kScene = R"([render]
@@ -48,11 +49,6 @@ material = "leaf"
 )";
 
 // A shell-quoted path.
-std::string q(const fs::path& p) {
-  std::ostringstream out;
-  out << '\'' << p.string() << '\'';
-  return out.str();
-}
 
 std::vector<std::string> data_lines(const std::string& text) {
   std::vector<std::string> out;

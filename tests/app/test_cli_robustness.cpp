@@ -24,9 +24,8 @@ namespace {
 namespace fs = std::filesystem;
 using test::fresh_dir;
 using test::read_text;
+using test::q;
 using test::run_sylva;
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 void write(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }
 

@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 
 class InputFile : public test::TempDirTest {};
 
-std::string message_of(const std::function<void()>& f) {
+std::string input_error(const std::function<void()>& f) {
   try {
     f();
   } catch (const ParseError& e) {
@@ -43,23 +43,23 @@ TEST_F(InputFile, RefusesFifosDevicesDirectoriesWithoutWaiting) {
   ASSERT_EQ(::mkfifo((dir_ / "fifo").c_str(), 0600), 0);
   fs::create_directory(dir_ / "dir");
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_NE(message_of([&] {
+  EXPECT_NE(input_error([&] {
               read_input_file(dir_ / "fifo", 1000, "scene file");
             }).find("fifo:0: cannot read scene file: a FIFO"),
             std::string::npos);
-  EXPECT_NE(message_of([&] { read_input_file("/dev/zero", 1000, "image"); }).find("cannot read image: a device"),
+  EXPECT_NE(input_error([&] { read_input_file("/dev/zero", 1000, "image"); }).find("cannot read image: a device"),
             std::string::npos);
-  EXPECT_NE(message_of([&] { read_input_file(dir_ / "dir", 1000, "mesh"); }).find("cannot read mesh: a directory"),
+  EXPECT_NE(input_error([&] { read_input_file(dir_ / "dir", 1000, "mesh"); }).find("cannot read mesh: a directory"),
             std::string::npos);
-  EXPECT_NE(message_of([&] { require_regular_file(dir_ / "fifo", "image"); }).find("a FIFO"), std::string::npos);
-  EXPECT_NE(message_of([&] { read_input_file(dir_ / "missing", 1000, "mesh"); }).find("cannot open mesh"),
+  EXPECT_NE(input_error([&] { require_regular_file(dir_ / "fifo", "image"); }).find("a FIFO"), std::string::npos);
+  EXPECT_NE(input_error([&] { read_input_file(dir_ / "missing", 1000, "mesh"); }).find("cannot open mesh"),
             std::string::npos);
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
 }
 
 TEST_F(InputFile, RefusesFilesOverTheLimit) {
   std::ofstream(dir_ / "big.toml") << std::string(1001, 'x');
-  EXPECT_NE(message_of([&] {
+  EXPECT_NE(input_error([&] {
               read_input_file(dir_ / "big.toml", 1000, "scene file");
             }).find("scene file of 1001 bytes is larger than the limit of 1000 bytes"),
             std::string::npos);

@@ -19,7 +19,7 @@ const std::filesystem::path kSpecies = std::filesystem::path(SYLVA_SOURCE_DIR) /
 const WeberPennParams& wp(const Species& s) { return std::get<WeberPennParams>(s.model); }
 
 // The ParseError message for `text` read as `name`.
-std::string error_of(const std::string& text, const std::string& name = "bad.toml") {
+std::string species_error(const std::string& text, const std::string& name = "bad.toml") {
   try {
     parse_species(text, name);
   } catch (const ParseError& e) {
@@ -87,30 +87,30 @@ TEST(Species, LevelPrefixAtTopLevelAndArbaroDefaults) {
 }
 
 TEST(Species, TomlErrorsCarryFileAndLine) {
-  EXPECT_EQ(error_of("name = \"x\"\n"), "bad.toml:1: missing key 'model' (e.g. model = \"weber-penn\")");
-  EXPECT_EQ(error_of("model = \"lsys\"\n"),
+  EXPECT_EQ(species_error("name = \"x\"\n"), "bad.toml:1: missing key 'model' (e.g. model = \"weber-penn\")");
+  EXPECT_EQ(species_error("model = \"lsys\"\n"),
             "bad.toml:1: unknown model \"lsys\" (this version reads \"weber-penn\", \"lsystem\", \"aspen-grammar\", "
             "\"treemaker\", \"hart-baker\", \"fournier-grindal\")");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = 7\nBaseSise = 0.4\n"),
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nShape = 7\nBaseSise = 0.4\n"),
             "bad.toml:3: unknown parameter 'BaseSise'");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n\nShape = 9\n"), "bad.toml:3: 'Shape' must be in [0, 8], not 9");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = 7.5\n"), "bad.toml:2: 'Shape' must be an integer, not 7.5");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nScale = \"big\"\n"), "bad.toml:2: 'Scale' must be a number, not \"big\"");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nScale = -1\n"), "bad.toml:2: 'Scale' must be at least 1e-06, not -1");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n1DownAngle = 60\n[level1]\nDownAngle = 50\n"),
+  EXPECT_EQ(species_error("model = \"weber-penn\"\n\nShape = 9\n"), "bad.toml:3: 'Shape' must be in [0, 8], not 9");
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nShape = 7.5\n"), "bad.toml:2: 'Shape' must be an integer, not 7.5");
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nScale = \"big\"\n"), "bad.toml:2: 'Scale' must be a number, not \"big\"");
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nScale = -1\n"), "bad.toml:2: 'Scale' must be at least 1e-06, not -1");
+  EXPECT_EQ(species_error("model = \"weber-penn\"\n1DownAngle = 60\n[level1]\nDownAngle = 50\n"),
             "bad.toml:4: parameter '1DownAngle' given twice (first on line 2)");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level1]\nDownAngel = 50\n"),
+  EXPECT_EQ(species_error("model = \"weber-penn\"\n[level1]\nDownAngel = 50\n"),
             "bad.toml:3: unknown level parameter 'DownAngel' in [level1]");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level7]\nLength = 1\n"),
+  EXPECT_EQ(species_error("model = \"weber-penn\"\n[level7]\nLength = 1\n"),
             "bad.toml:2: unknown table [level7] (expected [level0] .. [level3])");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\n[level1]\nCurveRes = 0\n"),
+  EXPECT_EQ(species_error("model = \"weber-penn\"\n[level1]\nCurveRes = 0\n"),
             "bad.toml:3: '1CurveRes' must be in [1, 10000], not 0");
   EXPECT_EQ(
-      error_of("model = \"weber-penn\"\nLeafShape = \"fern\"\n"),
+      species_error("model = \"weber-penn\"\nLeafShape = \"fern\"\n"),
       "bad.toml:2: unknown LeafShape \"fern\" (expected 0..5 or oval, triangle, oak3, maple3, maple5, leaflets3)");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = [1]\n"), "bad.toml:2: 'Shape' must be a number");
-  EXPECT_EQ(error_of("model = \"weber-penn\"\nShape = \n").substr(0, 11), "bad.toml:2:");  // TOML syntax
-  EXPECT_EQ(error_of("x", "tree.obj"),
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nShape = [1]\n"), "bad.toml:2: 'Shape' must be a number");
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nShape = \n").substr(0, 11), "bad.toml:2:");  // TOML syntax
+  EXPECT_EQ(species_error("x", "tree.obj"),
             "tree.obj:0: unknown species file type (expected .toml or .xml or .lsys or .grammar or .tmpl or "
             ".hbtree)");
   EXPECT_THROW(load_species(kSpecies / "does_not_exist.toml"), ParseError);
@@ -154,9 +154,9 @@ TEST(Species, ReadingKey) {
   EXPECT_EQ(wp(parse_species(head, "a.toml")).reading, wp::Reading::Paper);
   EXPECT_EQ(wp(parse_species(head + "reading = \"arbaro\"\n", "a.toml")).reading, wp::Reading::Arbaro);
   EXPECT_EQ(wp(parse_species(head + "reading = \"paper\"\n", "a.toml")).reading, wp::Reading::Paper);
-  EXPECT_EQ(error_of(head + "reading = \"sapling\"\n"),
+  EXPECT_EQ(species_error(head + "reading = \"sapling\"\n"),
             "bad.toml:2: 'reading' must be \"paper\" or \"arbaro\", not \"sapling\"");
-  EXPECT_EQ(error_of(head + "reading = 2\n"), "bad.toml:2: 'reading' must be \"paper\" or \"arbaro\", not 2");
+  EXPECT_EQ(species_error(head + "reading = 2\n"), "bad.toml:2: 'reading' must be \"paper\" or \"arbaro\", not 2");
   // An Arbaro file may ask for the paper's reading.
   const Species x = parse_species(
       "<arbaro>\n<species name='x'>\n<param name='reading' value='paper'/>\n</species></arbaro>\n", "x.xml");
@@ -172,18 +172,18 @@ TEST(Species, TrunkBelowTheHorizontalWarns) {
 
 TEST(Species, ArbaroXmlErrors) {
   const std::string head = "<arbaro>\n<species name='x'>\n";
-  EXPECT_EQ(error_of(head + "<param name='Shape' value='seven'/>\n</species></arbaro>", "x.xml"),
+  EXPECT_EQ(species_error(head + "<param name='Shape' value='seven'/>\n</species></arbaro>", "x.xml"),
             "x.xml:3: 'Shape' must be a number, not \"seven\"");
   EXPECT_EQ(
-      error_of(head + "<param name='Shape' value='1'/>\n<param name='WoodType' value='Oak'/>\n</species></arbaro>",
+      species_error(head + "<param name='Shape' value='1'/>\n<param name='WoodType' value='Oak'/>\n</species></arbaro>",
                "x.xml"),
       "x.xml:4: unknown parameter 'WoodType'");
-  EXPECT_EQ(error_of(head + "<param name='Shape'/>\n</species></arbaro>", "x.xml"),
+  EXPECT_EQ(species_error(head + "<param name='Shape'/>\n</species></arbaro>", "x.xml"),
             "x.xml:3: <param name=\"Shape\"> without a value attribute");
-  EXPECT_EQ(error_of(head + "\n<param name='4Length' value='1'/>\n</species></arbaro>", "x.xml"),
+  EXPECT_EQ(species_error(head + "\n<param name='4Length' value='1'/>\n</species></arbaro>", "x.xml"),
             "x.xml:4: '4Length': levels deeper than 3 reuse level 3's parameters");
-  EXPECT_EQ(error_of("<tree/>", "x.xml"), "x.xml:1: not an Arbaro species file: expected an <arbaro> root element");
-  EXPECT_EQ(error_of(head + "<param name='Shape' value='1'>\n</species></arbaro>", "x.xml").substr(0, 8), "x.xml:4:");
+  EXPECT_EQ(species_error("<tree/>", "x.xml"), "x.xml:1: not an Arbaro species file: expected an <arbaro> root element");
+  EXPECT_EQ(species_error(head + "<param name='Shape' value='1'>\n</species></arbaro>", "x.xml").substr(0, 8), "x.xml:4:");
 }
 
 TEST(Species, OptionsReachTheGenerator) {

@@ -40,7 +40,7 @@ SceneFile parse(const std::string& text) {
   return parse_scene(text, "targets.toml", SYLVA_SOURCE_DIR "/data/examples");
 }
 
-std::string error_of(const std::string& text) {
+std::string target_error(const std::string& text) {
   try {
     parse(text);
   } catch (const ParseError& e) {
@@ -148,15 +148,15 @@ ground = "none"
 
 TEST(Targets, BadEntriesAreFileLineErrors) {
   const std::string target = "[[targets]]\nfile = \"targets/vehicle.obj\"\nmaterial = \"camo\"\n";
-  EXPECT_NE(error_of(kMaterials + target + "position = [0, 0, 0]\n").find("label"), std::string::npos);
-  EXPECT_NE(error_of(kMaterials + target + "label = \"v\"\n").find("position"), std::string::npos);
+  EXPECT_NE(target_error(kMaterials + target + "position = [0, 0, 0]\n").find("label"), std::string::npos);
+  EXPECT_NE(target_error(kMaterials + target + "label = \"v\"\n").find("position"), std::string::npos);
   EXPECT_NE(
-      error_of(kMaterials + target + "label = \"v\"\nposition = [0,0,0]\nground = \"up\"\n").find("targets.toml:"),
+      target_error(kMaterials + target + "label = \"v\"\nposition = [0,0,0]\nground = \"up\"\n").find("targets.toml:"),
       std::string::npos);
   // Nothing to snap onto (outside the 200 m ground).
-  EXPECT_NE(error_of(kMaterials + target + "label = \"v\"\nposition = [500, 0, 0]\n").find("nothing to snap to"),
+  EXPECT_NE(target_error(kMaterials + target + "label = \"v\"\nposition = [500, 0, 0]\n").find("nothing to snap to"),
             std::string::npos);
-  EXPECT_NE(error_of(kMaterials + target + "label = \"v\"\nposition = [0, 0, 0]\ncolour = 1\n").find("colour"),
+  EXPECT_NE(target_error(kMaterials + target + "label = \"v\"\nposition = [0, 0, 0]\ncolour = 1\n").find("colour"),
             std::string::npos);
 }
 

@@ -44,4 +44,7 @@ inline std::filesystem::path fresh_dir(const std::string& name) {
   return dir;
 }
 
+// `p` in single quotes, for the command lines run_sylva takes (test paths hold no quote).
+inline std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
 }  // namespace sylva::test

@@ -16,7 +16,7 @@ namespace {
 // has about a thousand particles).
 constexpr size_t kMaxParticles = 250'000;
 constexpr size_t kMaxSections = 5'000'000;
-constexpr size_t kMaxLeaves = 5'000'000;
+constexpr size_t kMaxTreeMakerLeaves = 5'000'000;
 
 constexpr Vec3 kUp{0.0f, 0.0f, 1.0f};
 // Below this horizontal length a direction counts as vertical: the particle's stored horizontal
@@ -325,8 +325,8 @@ class Grower {
   void push_leaf(TreeModel& m, const Vec3& position, const Frame& f, float length, float width, LeafShape shape,
                  uint8_t material, int stem) const {
     TreeLeaves& l = m.leaves;
-    if (l.size() >= kMaxLeaves)
-      throw Error("tree too large: more than " + std::to_string(kMaxLeaves) +
+    if (l.size() >= kMaxTreeMakerLeaves)
+      throw Error("tree too large: more than " + std::to_string(kMaxTreeMakerLeaves) +
                   " TREE-MAKER leaf quads (lower the branch numbers or the elements per leaf)");
     l.positions.push_back(position);
     l.frames.push_back(f);

@@ -15,7 +15,7 @@ namespace {
 // levels) into a clear error instead of exhausting memory: far above any real tree (the Weeping
 // Willow has 50k stems and 550k leaves).
 constexpr size_t kMaxStems = 1'000'000;
-constexpr size_t kMaxLeaves = 10'000'000;
+constexpr size_t kMaxWeberPennLeaves = 10'000'000;
 
 // Stems shorter or thinner than this are not formed (Arbaro's MIN_STEM_LEN and MIN_STEM_RADIUS:
 // small plants such as Arbaro's rush have stems under a millimetre).
@@ -662,8 +662,8 @@ class Builder {
   void add_leaf(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& axis_pos, float offset, bool fan,
                 float fan_deg) {
     const WeberPennLevel& lp = p_.at(p_.levels);
-    if (m_.leaves.size() >= kMaxLeaves)
-      throw Error("tree too large: more than " + std::to_string(kMaxLeaves) +
+    if (m_.leaves.size() >= kMaxWeberPennLeaves)
+      throw Error("tree too large: more than " + std::to_string(kMaxWeberPennLeaves) +
                   " leaves (lower Leaves, nBranches or the quality factor)");
     Pcg32 rng(hash_ids(s.seed, 0x1EAFull, static_cast<uint64_t>(m_.leaves.size())));
     const float ratio = s.length > 0.0f ? (s.length - offset) / s.length : 0.0f;

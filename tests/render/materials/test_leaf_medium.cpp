@@ -12,7 +12,7 @@
 namespace sylva {
 namespace {
 
-const double kAlpha = sidak_alpha(0.01, 2);
+const double kMediumAlpha = sidak_alpha(0.01, 2);
 
 Vec3 dir(float theta, float phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
@@ -59,7 +59,7 @@ TEST(LeafMedium, SamplerMatchesPdf) {
           return s.direction;
         },
         [&](const Vec3& b) { return static_cast<double>(leaf_phase_pdf(phase, a, b)); });
-    EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic << " rho " << rho;
+    EXPECT_GT(r.p_value, kMediumAlpha) << "chi2 " << r.statistic << " rho " << rho;
   }
 }
 

@@ -10,7 +10,7 @@
 namespace sylva {
 namespace {
 
-const double kAlpha = sidak_alpha(0.01, 3);
+const double kMaterialAlpha = sidak_alpha(0.01, 3);
 
 SampledWavelengths wl550() {
   SampledWavelengths wl;
@@ -35,16 +35,16 @@ Chi2Result chi2_bsdf(const Material& m, const Vec3& wo, bool front, uint64_t see
 TEST(Materials, LeafSamplingChi2) {
   const Material leaf = make_leaf("leaf", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.5f));
   const auto r = chi2_bsdf(leaf, glm::normalize(Vec3(0.3f, -0.2f, 0.9f)), true, 21);
-  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+  EXPECT_GT(r.p_value, kMaterialAlpha) << "chi2 " << r.statistic;
   // From the back side (wo below the surface): transmission goes up.
   const auto r2 = chi2_bsdf(leaf, glm::normalize(Vec3(0.1f, 0.4f, -0.7f)), false, 22);
-  EXPECT_GT(r2.p_value, kAlpha) << "chi2 " << r2.statistic;
+  EXPECT_GT(r2.p_value, kMaterialAlpha) << "chi2 " << r2.statistic;
 }
 
 TEST(Materials, DiffuseSamplingChi2) {
   const Material d = make_diffuse("d", DenseSpectrum::constant(0.6f));
   const auto r = chi2_bsdf(d, glm::normalize(Vec3(-0.5f, 0.1f, 0.4f)), true, 23);
-  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic;
+  EXPECT_GT(r.p_value, kMaterialAlpha) << "chi2 " << r.statistic;
 }
 
 TEST(Materials, InterleavedLobesEqualTheMaterialsOwn) {
