@@ -82,6 +82,13 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
   return static_cast<float>(std::exp(-optical_depth));
 }
 
+LightSample Integrator::sample_light(const SampledWavelengths& wl, Pcg32& rng) const {
+  const Vec2 u_light = uniform2(rng);
+  const float u_select = rng.uniform();
+  if (environment_.empty()) return LightSample{Vec3(0.0f), SampledSpectrum(0.0f), 0.0f};
+  return environment_.sample(u_light, u_select, wl);
+}
+
 void Integrator::record_first_hit(const SurfaceInteraction& si, const Bsdf& bsdf, float t, FirstHit* first) const {
   first->hit = true;
   first->t = t;
@@ -274,11 +281,8 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
       if (depth + 1 > settings_.max_depth) return end_path();
       const Vec3 p = ray.origin + s * ray.direction;
       const float g = haze_.desc().g;
-      const Vec2 u_light = uniform2(rng);
-      const float u_select = rng.uniform();
-      if (!environment_.empty()) {
-        const LightSample ls = environment_.sample(u_light, u_select, wl);
-        if (ls.pdf > 0 && !is_black(ls.radiance)) {
+      if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+        {
           const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
           const float w = power_heuristic(ls.pdf, phase);
           shadow = ShadowQuery{ShadowQuery::Kind::kSky, kNoInstance, p, ls.wi, beta, SampledSpectrum(1.0f), ls.radiance,
@@ -299,11 +303,8 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
       const Vec3 p = ray.origin + s * ray.direction;
       const Bsdf leaf(lobes_, path.medium_material, wl, true);
       const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
-      const Vec2 u_light = uniform2(rng);
-      const float u_select = rng.uniform();
-      if (!environment_.empty()) {
-        const LightSample ls = environment_.sample(u_light, u_select, wl);
-        if (ls.pdf > 0 && !is_black(ls.radiance)) {
+      if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+        {
           const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
           if (!is_black(f)) {
             const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
@@ -368,11 +369,8 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   const Vec3 wo_local = frame.to_local(wo);
 
   // Next-event estimation towards the sun + sky mixture.
-  const Vec2 u_light = uniform2(rng);
-  const float u_select = rng.uniform();
-  if (!environment_.empty()) {
-    const LightSample ls = environment_.sample(u_light, u_select, wl);
-    if (ls.pdf > 0 && !is_black(ls.radiance)) {
+  if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+    {
       const Vec3 wi_local = frame.to_local(ls.wi);
       const float cos_g = glm::dot(ls.wi, ng);
       const bool transmits = cos_g < 0;

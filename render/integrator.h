@@ -145,6 +145,12 @@ class Integrator {
   // not overlap. 1 in scenes without turbid crowns.
   float medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& rays) const;
 
+  // Next-event estimation's light sample, the one place the transport samples lights: draws its two
+  // random numbers always (so a path's draws do not depend on the scene's lights), then samples the
+  // sun + sky mixture; pdf 0 when the scene has no light. Callers use a sample with pdf > 0 and
+  // non-black radiance.
+  LightSample sample_light(const SampledWavelengths& wl, Pcg32& rng) const;
+
   // The crowns' transmittance times the haze's (per wavelength) along an unoccluded ray to the sky.
   SampledSpectrum sky_transmittance(const Vec3& o, const Vec3& d, const SampledWavelengths& wl, uint64_t& rays) const;
 

@@ -64,14 +64,7 @@ ObjExportFiles obj_export_files(const Scene& scene, const std::filesystem::path&
 }
 
 Vec3 obj_diffuse_colour(const Material& material) {
-  const DenseSpectrum& reflectance = std::visit(
-      [](const auto& m) -> const DenseSpectrum& {
-        if constexpr (std::is_same_v<std::decay_t<decltype(m)>, LeafMaterial>)
-          return m.reflectance_front;
-        else
-          return m.reflectance;
-      },
-      material);
+  const DenseSpectrum& reflectance = display_reflectance(material);
   static const Band rgb = make_rgb_band();
   Vec3 colour;
   for (int c = 0; c < 3; ++c)

@@ -13,6 +13,7 @@ namespace sylva {
 
 struct DiffuseMaterial {
   static constexpr std::string_view kType = "diffuse";
+  static constexpr bool kFoliage = false;  // the flux budget counts it as bark or ground
 
   DenseSpectrum reflectance;
 
@@ -21,6 +22,7 @@ struct DiffuseMaterial {
   static DiffuseMaterial create(const std::string& name, const Params& params);
   // The reflected and transmitted spectra at the carried wavelengths.
   void lobes(const SampledWavelengths& wl, bool front, SampledSpectrum& reflect, SampledSpectrum& transmit) const;
+  const DenseSpectrum& display_reflectance() const { return reflectance; }
 };
 
 // Throws sylva::Error (naming `name`) if the reflectance leaves [0, 1].

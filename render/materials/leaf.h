@@ -16,6 +16,7 @@ namespace sylva {
 
 struct LeafMaterial {
   static constexpr std::string_view kType = "leaf";
+  static constexpr bool kFoliage = true;  // the flux budget counts its absorption as the leaves'
 
   DenseSpectrum reflectance_front, transmittance_front;
   DenseSpectrum reflectance_back, transmittance_back;
@@ -23,6 +24,7 @@ struct LeafMaterial {
   static LeafMaterial create(const std::string& name, const Params& params);
   // Light arriving at the back face sees the back spectra; transmission is reciprocal.
   void lobes(const SampledWavelengths& wl, bool front, SampledSpectrum& reflect, SampledSpectrum& transmit) const;
+  const DenseSpectrum& display_reflectance() const { return reflectance_front; }
 };
 
 // Throw sylva::Error (naming `name`) if any value is outside [0,1] or ρ + τ > 1 anywhere.

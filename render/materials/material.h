@@ -29,6 +29,17 @@ using Material = std::variant<DiffuseMaterial, LeafMaterial>;
 // Throws ParseError for an unknown type or a bad parameter.
 Material create_material(const std::string& name, const Params& params);
 
+// Material operations for code outside render/materials/ (none of it switches on material types):
+// the spectrum a viewer sees as the material's colour (its front reflectance; the OBJ exporter's
+// Kd), and whether the plot sensor's flux budget counts its absorption as the leaves' (fAPAR).
+// Each type provides display_reflectance() and kFoliage.
+inline const DenseSpectrum& display_reflectance(const Material& material) {
+  return std::visit([](const auto& m) -> const DenseSpectrum& { return m.display_reflectance(); }, material);
+}
+inline bool is_foliage(const Material& material) {
+  return std::visit([](const auto& m) { return std::decay_t<decltype(m)>::kFoliage; }, material);
+}
+
 // Every material's lobes on the dense 1 nm grid, per face, ρ and τ interleaved per grid point: a
 // BSDF at four wavelengths reads four 16-byte pieces, not a line per spectrum and wavelength
 // (bench/README.md, "The sky's table and spectral tables"). Built per render from the scene's materials as they are

@@ -159,7 +159,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
   constexpr size_t kStride = 2 + 3 * kT;
   std::vector<double> sums(blocks * nc * kStride, 0.0);
   const auto category = [&](uint32_t material) {
-    if (std::holds_alternative<LeafMaterial>(scene.materials[material])) return kLeaves;
+    if (is_foliage(scene.materials[material])) return kLeaves;
     for (const uint32_t g : settings.plot.ground_materials)
       if (g == material) return kGround;
     return kBark;
