@@ -120,8 +120,8 @@ std::unique_ptr<SameRays> make_same_rays(const SceneFile& file) {
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
       Pcg32 rng(hash_ids(1, static_cast<uint64_t>(x), static_cast<uint64_t>(y)));
-      const Ray primary = camera.generate_ray(Vec2(static_cast<float>(x), static_cast<float>(y)) + uniform2(rng),
-                                              uniform2(rng));
+      const Ray primary =
+          camera.generate_ray(Vec2(static_cast<float>(x), static_cast<float>(y)) + uniform2(rng), uniform2(rng));
       TracedRay ray{primary.origin, primary.direction, primary.t_max};
       for (int bounce = 0; bounce <= kMaxBounces; ++bounce) {
         out->closest.push_back(ray);

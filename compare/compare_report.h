@@ -12,8 +12,8 @@
 // Creates DIR if needed; throws sylva::Error("path: why") (an unknown view before writing
 // anything).
 
-#include "core/image.h"
 #include "compare/image_compare.h"
+#include "core/image.h"
 
 #include <filesystem>
 #include <string>

@@ -30,8 +30,8 @@ inline constexpr std::string_view kAtomicTempPrefix = ".sylva-";
 // sylva::Error("path: what")), as does a failed stream.
 void write_file_atomic(const std::filesystem::path& path, const std::function<void(std::ostream& out)>& write);
 
-// For libraries that write by file name (OpenEXR, libpng through a FILE): `write(temp)` writes the whole file at `temp`,
-// an existing empty file it may truncate, then the file is committed as by write_file_atomic.
+// For libraries that write by file name (OpenEXR, libpng through a FILE): `write(temp)` writes the whole file at
+// `temp`, an existing empty file it may truncate, then the file is committed as by write_file_atomic.
 void write_file_atomic_by_name(const std::filesystem::path& path,
                                const std::function<void(const std::filesystem::path& temp)>& write);
 

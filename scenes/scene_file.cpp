@@ -183,7 +183,7 @@ class SceneParser {
     std::optional<Projection> projection = create_registered<Projection>(type, *t);
     if (!projection)
       t->fail("type", fmt::format("camera type must be {}, not \"{}\"", registered_names<Projection>(), type));
-    c.projection = std::move(*projection);
+    c.projection = *projection;
     // `above_terrain = true`: position and target z are heights above the [terrain] surface under
     // them (an eye-height camera on any terrain); applied once the terrain is built.
     camera_above_terrain_ = t->boolean("above_terrain", false);
@@ -225,7 +225,7 @@ class SceneParser {
     } else {
       std::optional<SkyModel> m = create_registered<SkyModel>(model, *t);
       if (!m) t->fail("model", fmt::format("sky model must be {} or \"none\"", registered_names<SkyModel>()));
-      s.model = std::move(*m);
+      s.model = *m;
       s.spectrum = std::visit([](const auto& sky) { return sky.default_spectrum(); }, s.model);
     }
     if (t->has("spectrum")) s.spectrum = t->spectrum("spectrum", Extrapolate::Zero);
@@ -1539,7 +1539,7 @@ class SceneParser {
 // Relative file names resolve against the scene's directory, then Sylva's data directory. Every
 // file found is appended to `found` (in order, repeats included), so the scene hash can cover it.
 FileResolver file_resolver(const std::filesystem::path& base_dir,
-                           std::shared_ptr<std::vector<std::filesystem::path>> found) {
+                           const std::shared_ptr<std::vector<std::filesystem::path>>& found) {
   return [base_dir, found](const std::string& rel) -> std::filesystem::path {
     const std::filesystem::path p(rel);
     std::filesystem::path out;

@@ -54,7 +54,7 @@ ParamValue to_value(const toml::node& n, const std::string& file, const std::str
 
 }  // namespace
 
-Params TomlReader::to_params(const toml::table& t, std::string where, const FileResolver& resolver) const {
+Params TomlReader::to_params(const toml::table& t, const std::string& where, const FileResolver& resolver) const {
   return *to_table(t, file_, where, resolver);
 }
 

@@ -29,7 +29,7 @@ class TomlReader {
 
   // The table as format-neutral Params (nested tables and arrays included), for types that read
   // their own parameters; `where` names it in messages, `resolver` finds the files it names.
-  Params to_params(const toml::table& t, std::string where, const FileResolver& resolver = {}) const;
+  Params to_params(const toml::table& t, const std::string& where, const FileResolver& resolver = {}) const;
 
   // Rejects keys not in `allowed` (catches typos): "unknown key 'x' in <where> (expected one of ...)".
   void check_keys(const toml::table& t, std::initializer_list<std::string_view> allowed, std::string_view where) const;

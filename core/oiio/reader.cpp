@@ -10,7 +10,7 @@
 namespace sylva {
 namespace {
 
-SampleType sample_type(OIIO::TypeDesc t) {
+SampleType sample_type(const OIIO::TypeDesc& t) {
   switch (t.basetype) {
     case OIIO::TypeDesc::UINT8:
       return SampleType::UInt8;

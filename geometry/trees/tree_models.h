@@ -7,8 +7,8 @@
 // Adding a model = its files + one entry in `TreeModelParams` below (and, for a file format of its
 // own, one line in scenes/species.cpp's format table).
 
-#include "geometry/trees/hart_baker/hart_baker.h"
 #include "geometry/trees/fournier_grindal/fournier_grindal.h"
+#include "geometry/trees/hart_baker/hart_baker.h"
 #include "geometry/trees/lsystem/aspen_grammar.h"
 #include "geometry/trees/lsystem/lsystem.h"
 #include "geometry/trees/tree_model.h"
@@ -22,8 +22,8 @@
 namespace sylva {
 
 // The registered tree models.
-using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate,
-                                     HartBakerParams, FournierGrindalParams>;
+using TreeModelParams = std::variant<WeberPennParams, LSystem, AspenGrammarParams, TreeMakerTemplate, HartBakerParams,
+                                     FournierGrindalParams>;
 
 // Generates the tree structure for a seed. Pure: the same inputs give a bit-identical model.
 // Constrained so a registered model without its own make_tree is a compile error, not a call of

@@ -15,8 +15,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::fresh_dir;
-using test::read_text;
 using test::q;
+using test::read_text;
 using test::run_sylva;
 
 // 7 spp and 20 rows give every one of 7 chunks some work, split unevenly.

@@ -18,7 +18,6 @@ using test::fresh_dir;
 using test::q;
 using test::run_sylva;
 
-
 // The scene with `terrain_source` as the terrain's first key.
 std::string scene(const std::string& terrain_source) {
   std::string text = R"([render]

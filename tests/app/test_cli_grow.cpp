@@ -13,8 +13,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::fresh_dir;
-using test::read_text;
 using test::q;
+using test::read_text;
 using test::run_sylva;
 
 fs::path write_species(const fs::path& dir) {

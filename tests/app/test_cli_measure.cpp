@@ -14,8 +14,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::fresh_dir;
-using test::read_text;
 using test::q;
+using test::read_text;
 using test::run_sylva;
 
 const char* const kScene = R"([render]

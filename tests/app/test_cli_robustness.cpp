@@ -23,8 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::fresh_dir;
-using test::read_text;
 using test::q;
+using test::read_text;
 using test::run_sylva;
 
 void write(const fs::path& file, const std::string& text) { std::ofstream(file, std::ios::binary) << text; }

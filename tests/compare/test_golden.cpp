@@ -48,13 +48,13 @@ TEST_P(Golden, MatchesReferenceAndDeterminismHash) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, Golden,
-                         ::testing::Values("alpha_shadows", "grass_terrain", "ground_sky", "ground_sun", "haze", "instancing",
-                                           "leaf_below", "silhouette_aspen_full", "silhouette_aspen_stems",
-                                           "silhouette_oak_full", "silhouette_oak_stems", "silhouette_tupelo_full",
-                                           "silhouette_tupelo_stems", "silhouette_willow_full",
-                                           "silhouette_willow_stems", "tree_aspen", "tree_aspen_grammar",
-                                           "tree_dogwood", "tree_fg_conifer", "tree_fg_poplar", "tree_fg_round",
-                                           "tree_lsystem"));
+                         ::testing::Values("alpha_shadows", "grass_terrain", "ground_sky", "ground_sun", "haze",
+                                           "instancing", "leaf_below", "silhouette_aspen_full",
+                                           "silhouette_aspen_stems", "silhouette_oak_full", "silhouette_oak_stems",
+                                           "silhouette_tupelo_full", "silhouette_tupelo_stems",
+                                           "silhouette_willow_full", "silhouette_willow_stems", "tree_aspen",
+                                           "tree_aspen_grammar", "tree_dogwood", "tree_fg_conifer", "tree_fg_poplar",
+                                           "tree_fg_round", "tree_lsystem"));
 
 TEST(GoldenSuite, EveryCaseIsListed) {
   // A case added under golden/scenes must be added to the list above.

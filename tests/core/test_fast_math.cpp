@@ -16,8 +16,13 @@ constexpr int kSteps = 2'000'003;  // odd, so the sweeps do not step in round fr
 
 // select() is c ? a : b bit for bit: signed zeros, infinities and NaN payloads included.
 TEST(FastMath, SelectPicksTheBitsOfOne) {
-  const float values[] = {0.0f, -0.0f, 1.5f, -3.25e-38f, std::numeric_limits<float>::infinity(),
-                          -std::numeric_limits<float>::infinity(), std::bit_cast<float>(0x7fc00123u),
+  const float values[] = {0.0f,
+                          -0.0f,
+                          1.5f,
+                          -3.25e-38f,
+                          std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity(),
+                          std::bit_cast<float>(0x7fc00123u),
                           std::numeric_limits<float>::denorm_min()};
   for (float a : values)
     for (float b : values) {

@@ -95,8 +95,10 @@ TEST(Species, TomlErrorsCarryFileAndLine) {
             "bad.toml:3: unknown parameter 'BaseSise'");
   EXPECT_EQ(species_error("model = \"weber-penn\"\n\nShape = 9\n"), "bad.toml:3: 'Shape' must be in [0, 8], not 9");
   EXPECT_EQ(species_error("model = \"weber-penn\"\nShape = 7.5\n"), "bad.toml:2: 'Shape' must be an integer, not 7.5");
-  EXPECT_EQ(species_error("model = \"weber-penn\"\nScale = \"big\"\n"), "bad.toml:2: 'Scale' must be a number, not \"big\"");
-  EXPECT_EQ(species_error("model = \"weber-penn\"\nScale = -1\n"), "bad.toml:2: 'Scale' must be at least 1e-06, not -1");
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nScale = \"big\"\n"),
+            "bad.toml:2: 'Scale' must be a number, not \"big\"");
+  EXPECT_EQ(species_error("model = \"weber-penn\"\nScale = -1\n"),
+            "bad.toml:2: 'Scale' must be at least 1e-06, not -1");
   EXPECT_EQ(species_error("model = \"weber-penn\"\n1DownAngle = 60\n[level1]\nDownAngle = 50\n"),
             "bad.toml:4: parameter '1DownAngle' given twice (first on line 2)");
   EXPECT_EQ(species_error("model = \"weber-penn\"\n[level1]\nDownAngel = 50\n"),
@@ -176,14 +178,16 @@ TEST(Species, ArbaroXmlErrors) {
             "x.xml:3: 'Shape' must be a number, not \"seven\"");
   EXPECT_EQ(
       species_error(head + "<param name='Shape' value='1'/>\n<param name='WoodType' value='Oak'/>\n</species></arbaro>",
-               "x.xml"),
+                    "x.xml"),
       "x.xml:4: unknown parameter 'WoodType'");
   EXPECT_EQ(species_error(head + "<param name='Shape'/>\n</species></arbaro>", "x.xml"),
             "x.xml:3: <param name=\"Shape\"> without a value attribute");
   EXPECT_EQ(species_error(head + "\n<param name='4Length' value='1'/>\n</species></arbaro>", "x.xml"),
             "x.xml:4: '4Length': levels deeper than 3 reuse level 3's parameters");
-  EXPECT_EQ(species_error("<tree/>", "x.xml"), "x.xml:1: not an Arbaro species file: expected an <arbaro> root element");
-  EXPECT_EQ(species_error(head + "<param name='Shape' value='1'>\n</species></arbaro>", "x.xml").substr(0, 8), "x.xml:4:");
+  EXPECT_EQ(species_error("<tree/>", "x.xml"),
+            "x.xml:1: not an Arbaro species file: expected an <arbaro> root element");
+  EXPECT_EQ(species_error(head + "<param name='Shape' value='1'>\n</species></arbaro>", "x.xml").substr(0, 8),
+            "x.xml:4:");
 }
 
 TEST(Species, OptionsReachTheGenerator) {
