@@ -2,7 +2,7 @@
 // Registries over a std::variant: every alternative T names itself with `static constexpr
 // std::string_view kType` and builds itself with `static T create(args...)`. Registering a type is
 // adding it to the variant; lookup by name needs no if/else chain. Per-ray code then dispatches
-// statically with std::visit (STYLE.md rule 5).
+// statically with std::visit (docs/style.md, rule 5).
 
 #include <optional>
 #include <string>
