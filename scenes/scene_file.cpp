@@ -1114,17 +1114,7 @@ class SceneParser {
     const std::string name = out_.scene.material_names[bark] + " (dead, reflectance x0.5)";
     auto found = material_ids_.find(name);
     if (found != material_ids_.end()) return found->second;
-    Material m = out_.scene.materials[bark];
-    std::visit(
-        [](auto& mat) {
-          if constexpr (std::is_same_v<std::decay_t<decltype(mat)>, DiffuseMaterial>) {
-            mat.reflectance *= kDeadBarkReflectanceScale;
-          } else {
-            mat.reflectance_front *= kDeadBarkReflectanceScale;
-            mat.reflectance_back *= kDeadBarkReflectanceScale;
-          }
-        },
-        m);
+    Material m = scaled_reflectance(out_.scene.materials[bark], kDeadBarkReflectanceScale);
     const uint32_t id = out_.scene.add_material(name, std::move(m));
     return material_ids_[name] = id;
   }
