@@ -20,6 +20,7 @@
 #include "scenes/species.h"
 #include "scenes/toml_reader.h"
 #include "scenes/tree_lod.h"
+#include "scenes/tree_variants.h"
 
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
@@ -957,30 +958,6 @@ class SceneParser {
     return best;
   }
 
-  // A tree made from a species and seed (TreeModel and mesh), or the message of why it could not
-  // be. Pure, so variants can be generated in parallel.
-  // `mesh_options` are those it was meshed with (for its levels of detail).
-  struct GeneratedTree {
-    TreeModel model;
-    TreeMesh mesh;
-    TreeMeshOptions mesh_options;
-    std::string error;
-  };
-  static GeneratedTree generate_tree(const Species& species, uint64_t seed, const TreeOptions& options,
-                                     bool with_leaves) {
-    GeneratedTree out;
-    try {
-      out.model = make_species_model(species, seed, options);
-      out.mesh_options.quality = options.quality;
-      out.mesh_options.split_dead_stems = true;
-      out.mesh_options.leaves = with_leaves;
-      out.mesh = mesh_species_model(species, out.model, out.mesh_options);
-    } catch (const Error& e) {
-      out.error = e.what();
-    }
-    return out;
-  }
-
   // The prototypes of a generated tree: stems with the first leaf material slot, one more per
   // further slot with leaves, and the dead branches (the table's `dead_bark`, else darker bark).
   std::vector<uint32_t> add_tree_prototypes(const Params& t, const std::string& name, GeneratedTree& tree,
@@ -1022,38 +999,6 @@ class SceneParser {
     for (Prototype& p : lod_prototypes(name, level, materials, dead_material))
       ids.push_back(out_.scene.add_prototype(std::move(p)));
     return ids;
-  }
-
-  // What make_tree_lod reads of a generated tree: the model, the leaf quads and the mesh options
-  // (not the bark tubes, which it meshes again from the model).
-  static GeneratedTree lod_source(const GeneratedTree& tree) {
-    GeneratedTree out;
-    out.model = tree.model;
-    out.mesh.leaves = tree.mesh.leaves;
-    out.mesh_options = tree.mesh_options;
-    return out;
-  }
-
-  // Levels of detail to build: level `level` ≥ 1 of variant `variant`, from the variant's tree.
-  struct LodJob {
-    size_t variant = 0;
-    size_t level = 0;
-    TreeLod lod;
-  };
-  // `used[v · levels + k]` marks level k of variant v as drawn by some instance: the jobs for
-  // k ≥ 1, in variant then level order, built in parallel from `sources` (results by index, so
-  // independent of the thread count).
-  static std::vector<LodJob> build_lod_levels(const std::vector<uint8_t>& used,
-                                              const std::vector<GeneratedTree>& sources) {
-    const size_t levels = kLodLevelR2.size();
-    std::vector<LodJob> jobs;
-    for (size_t i = 0; i < used.size(); ++i)
-      if (used[i] && i % levels != 0) jobs.push_back(LodJob{i / levels, i % levels, {}});
-    tbb::parallel_for(size_t{0}, jobs.size(), [&](size_t i) {
-      const GeneratedTree& g = sources[jobs[i].variant];
-      jobs[i].lod = make_tree_lod(g.model, g.mesh, g.mesh_options, kLodLevelR2[jobs[i].level]);
-    });
-    return jobs;
   }
 
   // The level of detail of a tree placed by `world_from_object` (0 = full; 0 without [lod]).
@@ -1114,34 +1059,9 @@ class SceneParser {
     const std::string name = out_.scene.material_names[bark] + " (dead, reflectance x0.5)";
     auto found = material_ids_.find(name);
     if (found != material_ids_.end()) return found->second;
-    Material m = out_.scene.materials[bark];
-    std::visit(
-        [](auto& mat) {
-          if constexpr (std::is_same_v<std::decay_t<decltype(mat)>, DiffuseMaterial>) {
-            mat.reflectance *= kDeadBarkReflectanceScale;
-          } else {
-            mat.reflectance_front *= kDeadBarkReflectanceScale;
-            mat.reflectance_back *= kDeadBarkReflectanceScale;
-          }
-        },
-        m);
+    Material m = scaled_reflectance(out_.scene.materials[bark], kDeadBarkReflectanceScale);
     const uint32_t id = out_.scene.add_material(name, std::move(m));
     return material_ids_[name] = id;
-  }
-
-  // The leaf quads of material slot `slot` (the last slot also takes every slot beyond it), in
-  // order, with their stem ids. `quads` were meshed from `leaves`, one quad per leaf.
-  static LeafQuads leaves_in_slot(const LeafQuads& quads, const TreeLeaves& leaves, size_t slot, size_t last) {
-    LeafQuads out;
-    for (size_t i = 0; i < quads.size(); ++i) {
-      const size_t s = std::min<size_t>(leaves.material_of(i), last);
-      if (s != slot) continue;
-      out.corners.insert(out.corners.end(), quads.corners.begin() + static_cast<ptrdiff_t>(4 * i),
-                         quads.corners.begin() + static_cast<ptrdiff_t>(4 * i + 4));
-      out.shapes.push_back(quads.shapes[i]);
-      if (!quads.stem.empty()) out.stem.push_back(quads.stem[i]);
-    }
-    return out;
   }
 
   // A tree's materials: bark, then one per leaf material slot. Named ones come from the scene; a

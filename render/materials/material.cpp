@@ -8,6 +8,8 @@
 
 #include <fmt/core.h>
 
+#include <type_traits>
+
 namespace sylva {
 
 void check_unit_range(const std::string& name, const char* what, const DenseSpectrum& s) {
@@ -58,6 +60,21 @@ MaterialLobes::MaterialLobes(const std::vector<Material>& materials)
 Bsdf::Bsdf(const Material& material, const SampledWavelengths& wl, bool front) {
   std::visit([&](const auto& m) { m.lobes(wl, front, reflect_, transmit_); }, material);
   select_lobes();
+}
+
+Material scaled_reflectance(const Material& m, float factor) {
+  Material out = m;
+  std::visit(
+      [factor](auto& mat) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(mat)>, DiffuseMaterial>) {
+          mat.reflectance *= factor;
+        } else {
+          mat.reflectance_front *= factor;
+          mat.reflectance_back *= factor;
+        }
+      },
+      out);
+  return out;
 }
 
 }  // namespace sylva

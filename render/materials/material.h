@@ -129,4 +129,8 @@ class Bsdf {
   float p_reflect_ = 1.0f;  // lobe selection probability
 };
 
+// A copy of `m` with every reflectance (not transmittance) scaled by `factor`: the one
+// material-neutral edit scene assembly makes (a dead branch's darker bark).
+Material scaled_reflectance(const Material& m, float factor);
+
 }  // namespace sylva

@@ -329,6 +329,32 @@ TEST(SceneFile, EveryMistakeNamesFileAndLine) {
   }
 }
 
+// Every section family checks its own keys: a misspelt key is reported at its own line, naming
+// the key, before anything else in the section is read.
+TEST(SceneFile, MisspeltKeyInEverySectionNamesFileAndLine) {
+  const BadCase cases[] = {
+      {"[render]\nwidth = 8\nspp_ = 4\n", "scene.toml:3: unknown key 'spp_'"},
+      {"[[bands]]\nname = \"b\"\nrespons = 1\n", "scene.toml:3: unknown key 'respons'"},
+      {"[lod]\nbais = 2\n", "scene.toml:2: unknown key 'bais'"},
+      {"[sun]\nelevation = 40\nazimut = 10\n", "scene.toml:3: unknown key 'azimut'"},
+      {"[materials.a]\nreflectance = 0.5\nreflectence = 0.2\n", "scene.toml:3: unknown key 'reflectence'"},
+      {"[output]\nexr = \"a.exr\"\nexpsoure = 1\n", "scene.toml:3: unknown key 'expsoure'"},
+      {"[[meshes]]\nshape = \"box\"\nmaterial = \"a\"\nsegmnets = 3\n", "scene.toml:4: unknown key 'segmnets'"},
+      {"[[trees]]\nspecies = \"x.toml\"\nbrak = \"a\"\n", "scene.toml:3: unknown key 'brak'"},
+      {"[[placements]]\nrows = []\nspecie = {}\n", "scene.toml:3: unknown key 'specie'"},
+      {"[vegetation]\nseed = 1\ntree_cvoer = 0.5\n", "scene.toml:3: unknown key 'tree_cvoer'"},
+      {"[terrain]\nmaterial = \"a\"\nrelif = 3\n", "scene.toml:3: unknown key 'relif'"},
+      {"[[grass]]\nmaterial = \"a\"\ndensty = 3\n", "scene.toml:3: unknown key 'densty'"},
+      {"[[leaves]]\nfile = \"l.txt\"\nmaterail = \"a\"\n", "scene.toml:3: unknown key 'materail'"},
+      {"[[canopies]]\ntype = \"spheres\"\nlia = 3\n", "scene.toml:3: unknown key 'lia'"},
+      {"[[targets]]\nfile = \"t.obj\"\nlable = \"car\"\n", "scene.toml:3: unknown key 'lable'"},
+  };
+  for (const BadCase& c : cases) {
+    const std::string msg = error_of(c.text);
+    EXPECT_NE(msg.find(c.expected), std::string::npos) << "input:\n" << c.text << "\nmessage: " << msg;
+  }
+}
+
 TEST(SceneFile, HazeSpectralSkyAndRgbColours) {
   const SceneFile f = parse_scene(R"(
 [sky]
