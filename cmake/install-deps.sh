@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config ninja-build clang-format clang-tidy
+  build-essential cmake pkg-config ninja-build clang-format clang-tidy ccache
   libembree-dev libtbb-dev libglm-dev
   libopenimageio-dev libopenexr-dev libpng-dev python3-imath libopencolorio-dev
   libtomlplusplus-dev libpugixml-dev libcli11-dev libfmt-dev
