@@ -372,6 +372,9 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   const Vec3 ng = si.front ? si.ng : -si.ng;  // geometric normal on the viewer's side
   const Frame frame = si.shading_frame();
   const Bsdf bsdf = lobes_.bsdf(si);
+  // Emission: emitters are not sampled as lights, so a camera or BSDF-sampled ray that meets one
+  // takes its whole radiance (the power heuristic's weight when the light-sampling pdf is 0).
+  if (lobes_.emits(si.material)) L += beta * lobes_.emitted(si);
   if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
   if (depth + 1 > settings_.max_depth) return end_path();
   const Vec3 wo_local = frame.to_local(wo);

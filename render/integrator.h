@@ -4,6 +4,10 @@
 // heuristic, Veach 1997 §9.2), Russian roulette after three bounces, a maximum depth. Media: the
 // turbid crowns (render/materials/leaf_medium.h) and the optional haze (render/media/haze.h), each
 // sampled by free flight; a haze collision scatters by the Henyey–Greenstein phase function.
+// Emission: an emitting material's radiance (render/materials/emissive.h) counts where a camera
+// or BSDF-sampled ray meets it, with weight 1. Emitters are not among the sampled lights (only
+// the sun and sky are), so no light sample can reach one and the unweighted hit is the whole,
+// unbiased estimate; sampling emitters as lights (and weighting both by MIS) is future work.
 
 #include "core/band.h"
 #include "core/rng.h"

@@ -17,6 +17,7 @@
 #include "core/spectrum.h"
 #include "render/materials/bsdf.h"
 #include "render/materials/diffuse.h"
+#include "render/materials/emissive.h"
 #include "render/materials/hit_context.h"
 #include "render/materials/leaf.h"
 
@@ -27,7 +28,7 @@
 namespace sylva {
 
 // The registered materials.
-using Material = std::variant<DiffuseMaterial, LeafMaterial>;
+using Material = std::variant<DiffuseMaterial, LeafMaterial, EmissiveMaterial>;
 
 // The material whose kType is `params`' "type" (default "diffuse"), created from `params`.
 // Throws ParseError for an unknown type or a bad parameter.

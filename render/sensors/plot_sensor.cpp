@@ -144,6 +144,9 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
     for (const HalfSpaceSolid& solid : p.solids)
       if (solid.leaf_area_density > 0)
         throw Error("the flux budget follows surfaces only: the scene's turbid crowns are not supported");
+  for (const Material& m : scene.materials)
+    if (emits(m))
+      throw Error("the flux budget follows the sun's and sky's light: emitting materials are not supported");
   const Environment environment(scene.sun, scene.sky);
   if (environment.empty()) throw Error("the flux budget needs a sun or a sky");
   const Channels channels(settings.bands, environment, Quantity::radiance);

@@ -1,5 +1,6 @@
-// Light transport: white furnaces per band (rgb and nir), the sun-lit Lambertian plane against its
-// closed form, determinism across thread counts, and interrupted + resumed renders.
+// Light transport: white furnaces per band (rgb and nir), emitters (an emissive enclosure, a quad
+// seen directly, emitters in a sky furnace), the sun-lit Lambertian plane against its closed form, determinism across
+// thread counts, and interrupted + resumed renders.
 
 #include "core/error.h"
 #include "geometry/primitives.h"
@@ -144,6 +145,70 @@ TEST(Transport, WhiteFurnaceTurbidCrown) {
   s.instances.push_back({s.add_prototype(p), glm::scale(glm::translate(Mat4(1.0f), Vec3(0, 0, -0.6f)), Vec3(0.8f)), 0});
   const Image img = render_image(s, 24, 24, 64);
   expect_channels(img, band_value_of_constant, "turbid crown furnace");
+}
+
+// A scene without lights: no sun, no sky.
+Scene dark_scene() {
+  Scene s = furnace_scene();
+  s.sky.enabled = false;
+  return s;
+}
+
+TEST(Transport, EmissiveEnclosureIsLeOverOneMinusAlbedo) {
+  // Inside a closed box whose walls emit L_e = 0.3 from both faces and reflect ρ = 0.6 diffusely,
+  // every ray sees L = L_e Σ ρ^k = L_e/(1 − ρ) = 0.75 (the emission counted at camera and BSDF hits).
+  Scene s = dark_scene();
+  const uint32_t m =
+      s.add_material("wall", make_emissive("wall", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.6f), true));
+  s.instances.push_back(
+      {s.add_prototype(Prototype{"box", make_box(Vec3(4.0f)), m, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
+  s.camera.position = {0.3f, -1.2f, 1.5f};
+  s.camera.target = {0, 1, 2.2f};
+  std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 70;
+  const Image img = render_image(s, 24, 24, 64);
+  expect_channels(
+      img, [](const DenseSpectrum& w) { return 0.3 / (1.0 - 0.6) * w.integral(); }, "emissive enclosure");
+}
+
+TEST(Transport, EmissiveQuadSeenDirectlyIsLe) {
+  // A black emitter filling the view in a dark scene: every pixel's expectation is its L_e(λ)
+  // weighted by the channel (the carried wavelengths are the only randomness); from behind, a
+  // one-sided emitter is exactly black and a two-sided one the same as in front.
+  DenseSpectrum le;
+  for (int i = 0; i < kLambdaSamples; ++i) le[i] = 0.5f + 1.5f * static_cast<float>(i) / kLambdaSamples;
+  for (const bool two_sided : {false, true})
+    for (const float side : {1.0f, -1.0f}) {
+      Scene s = dark_scene();
+      const uint32_t m = s.add_material("lamp", make_emissive("lamp", le, DenseSpectrum::constant(0.0f), two_sided));
+      s.instances.push_back(
+          {s.add_prototype(Prototype{"quad", make_plane(20, 20), m, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
+      s.camera.position = {0.2f, -0.3f, 2.0f * side};
+      s.camera.target = {0, 0, 0};
+      const Image img = render_image(s, 32, 32, 64);
+      if (two_sided || side > 0) {
+        expect_channels(
+            img, [&](const DenseSpectrum& w) { return (le * w).integral(); }, "emissive quad");
+      } else {
+        for (const Band& b : test_bands())
+          for (const std::string& channel : b.channels) EXPECT_EQ(pixel_mean(img, channel).mean, 0.0) << channel;
+      }
+    }
+}
+
+TEST(Transport, EmittersInAUniformSkyFurnace) {
+  // A closed box and a sphere that reflect ρ = 0.7 and emit L_e = 1 − ρ under a uniform unit sky:
+  // L = L_e + ρ · 1 = 1 everywhere. The sky's light reaches them by light samples and BSDF samples
+  // (MIS) while their emission counts at hits: the two must not double-count or miss each other.
+  Scene s = furnace_scene();
+  const uint32_t m = s.add_material(
+      "grey", make_emissive("grey", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.7f), false));
+  Prototype box{"box", make_box(Vec3(1.0f)), m, {}, 0, {}, {}, {}, 0, {}, 0};
+  Prototype sphere{"sphere", make_sphere(0.5f, 32), m, {}, 0, {}, {}, {}, 0, {}, 0};
+  s.instances.push_back({s.add_prototype(box), glm::translate(Mat4(1.0f), Vec3(-0.6f, 0, 0)), 0});
+  s.instances.push_back(
+      {s.add_prototype(sphere), glm::scale(glm::translate(Mat4(1.0f), Vec3(0.7f, 0, 0.5f)), Vec3(1.3f)), 0});
+  const Image img = render_image(s, 24, 24, 64);
+  expect_channels(img, band_value_of_constant, "emitter sky furnace");
 }
 
 TEST(Transport, TurbidSlabTransmitsBeersLaw) {

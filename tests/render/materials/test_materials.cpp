@@ -10,7 +10,7 @@
 namespace sylva {
 namespace {
 
-const double kMaterialAlpha = sidak_alpha(0.01, 3);
+const double kMaterialAlpha = sidak_alpha(0.01, 4);
 
 SampledWavelengths wl550() {
   SampledWavelengths wl;
@@ -132,6 +132,27 @@ TEST(Materials, RejectsNonPhysicalSpectra) {
   EXPECT_THROW(make_diffuse("neg", DenseSpectrum::constant(-0.1f)), Error);
   EXPECT_THROW(make_diffuse("big", DenseSpectrum::constant(1.2f)), Error);
   EXPECT_NO_THROW(make_leaf("ok", DenseSpectrum::constant(0.5f), DenseSpectrum::constant(0.5f)));
+}
+
+TEST(Materials, EmissiveEmitsOnItsFacesAndReflectsDiffusely) {
+  const Material lamp =
+      make_emissive("lamp", DenseSpectrum::constant(2.0f), DenseSpectrum::constant(0.25f), /*two_sided=*/false);
+  const Material both = make_emissive("both", DenseSpectrum::constant(2.0f), DenseSpectrum::constant(0.0f), true);
+  const SampledWavelengths wl = wl550();
+  HitContext ctx;
+  ctx.wl = &wl;
+  EXPECT_TRUE(emits(lamp));
+  EXPECT_FALSE(emits(make_diffuse("d", DenseSpectrum::constant(0.5f))));
+  EXPECT_EQ(emitted_radiance(lamp, ctx), SampledSpectrum(2.0f));
+  EXPECT_EQ(emitted_radiance(both, ctx), SampledSpectrum(2.0f));
+  ctx.front = false;
+  EXPECT_EQ(emitted_radiance(lamp, ctx), SampledSpectrum(0.0f));
+  EXPECT_EQ(emitted_radiance(both, ctx), SampledSpectrum(2.0f));
+  EXPECT_EQ(material_bsdf(lamp, ctx).albedo(), SampledSpectrum(0.25f));
+  const auto r = chi2_bsdf(lamp, glm::normalize(Vec3(0.2f, 0.1f, 0.6f)), true, 26);
+  EXPECT_GT(r.p_value, kMaterialAlpha) << "chi2 " << r.statistic;
+  EXPECT_THROW(make_emissive("neg", DenseSpectrum::constant(-1.0f), DenseSpectrum::constant(0.0f), false), Error);
+  EXPECT_THROW(make_emissive("big", DenseSpectrum::constant(1.0f), DenseSpectrum::constant(1.5f), false), Error);
 }
 
 }  // namespace
