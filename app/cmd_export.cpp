@@ -4,7 +4,7 @@
 // tutorial, so the same view can be rendered there (bench/compare_embree.sh).
 
 #include "app/commands.h"
-#include "app/render_job.h"
+#include "pipeline/scene_request.h"
 #include "core/error.h"
 #include "core/output_paths.h"
 #include "render/lights/lights.h"

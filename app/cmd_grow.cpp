@@ -2,7 +2,7 @@
 // export it, its growth rings and its state.
 
 #include "app/commands.h"
-#include "app/render_job.h"
+#include "pipeline/scene_request.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "core/progress.h"
