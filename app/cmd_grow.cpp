@@ -9,7 +9,7 @@
 #include "geometry/trees/hart_baker/rings.h"
 #include "geometry/trees/hart_baker/surface.h"
 #include "geometry/trees/tree_mesher.h"
-#include "pipeline/scene_request.h"
+#include "pipeline/outputs.h"
 #include "render/renderer.h"
 #include "scenes/hart_baker_growth.h"
 #include "scenes/scene_file.h"
