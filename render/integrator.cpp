@@ -89,12 +89,12 @@ LightSample Integrator::sample_light(const SampledWavelengths& wl, Pcg32& rng) c
   return environment_.sample(u_light, u_select, wl);
 }
 
-void Integrator::record_first_hit(const SurfaceInteraction& si, const Bsdf& bsdf, float t, FirstHit* first) const {
+void Integrator::record_first_hit(const HitContext& si, const Bsdf& bsdf, float t, FirstHit* first) const {
   first->hit = true;
   first->t = t;
   first->normal = si.ng;
   first->instance = si.instance + 1;
-  first->object_id = scene_.instances[si.instance].object_id;
+  first->object_id = si.object_id;
   first->albedo = bsdf.albedo();
 }
 
@@ -105,11 +105,12 @@ SampledSpectrum Integrator::sky_transmittance(const Vec3& o, const Vec3& d, cons
   return t;
 }
 
-SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) const {
+HitContext Integrator::interaction(const Ray& ray, const RayHit& hit) const {
   const Instance& inst = scene_.instances[hit.instance];
   const Prototype& proto = scene_.prototypes[inst.prototype];
-  SurfaceInteraction si;
+  HitContext si;
   si.instance = hit.instance;
+  si.object_id = inst.object_id;
   si.prototype = inst.prototype;
   si.primitive = hit.primitive;
   si.leaf = hit.leaf;
@@ -170,6 +171,7 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
     p_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(splat(wa), a), _mm_mul_ps(splat(wb), b)), _mm_mul_ps(splat(wd), d));
     ng_obj = cross(_mm_sub_ps(b, a), _mm_sub_ps(d, a));
     si.material = proto.leaf_material;
+    si.uv = Vec2(hit.u, hit.v);  // Embree's quad coordinates are the leaf's (geometry/mesh.h)
     if (!proto.leaves.stem.empty()) si.stem = proto.leaves.stem[hit.primitive];
   } else {
     const TriangleMesh& mesh = proto.triangles;
@@ -183,6 +185,7 @@ SurfaceInteraction Integrator::interaction(const Ray& ray, const RayHit& hit) co
       ns_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(b0, load(mesh.normals[t.x])), _mm_mul_ps(b1, load(mesh.normals[t.y]))),
                           _mm_mul_ps(b2, load(mesh.normals[t.z])));
     si.material = proto.triangle_material;
+    si.uv = Vec2(hit.u, hit.v);
   }
   si.p = store(transform_point(inst.world_from_object, p_obj));
   const __m128 ng = transform(nfo, ng_obj);
@@ -274,9 +277,10 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
       // The AOVs describe the first surface on the camera ray whether or not the haze scatters
       // the path before it.
       if (first && depth == 0 && found && !turbid_solid(hit)) {
-        const SurfaceInteraction si = interaction(ray, hit);
-        const bool front = glm::dot(-ray.direction, si.ng) > 0;
-        record_first_hit(si, Bsdf(lobes_, si.material, wl, front), hit.t, first);
+        HitContext si = interaction(ray, hit);
+        si.front = glm::dot(-ray.direction, si.ng) > 0;
+        si.wl = &wl;
+        record_first_hit(si, lobes_.bsdf(si), hit.t, first);
       }
       if (depth + 1 > settings_.max_depth) return end_path();
       const Vec3 p = ray.origin + s * ray.direction;
@@ -301,7 +305,11 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
     if (s < t_surface) {
       if (depth + 1 > settings_.max_depth) return end_path();
       const Vec3 p = ray.origin + s * ray.direction;
-      const Bsdf leaf(lobes_, path.medium_material, wl, true);
+      HitContext in_crown;  // a leaf of the crown's material, seen from its front
+      in_crown.p = p;
+      in_crown.material = path.medium_material;
+      in_crown.wl = &wl;
+      const Bsdf leaf = lobes_.bsdf(in_crown);
       const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
       if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
         {
@@ -357,13 +365,13 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
     }
     return end_path();
   }
-  const SurfaceInteraction si = interaction(ray, hit);
+  HitContext si = interaction(ray, hit);
   const Vec3 wo = -ray.direction;
-  const bool front = glm::dot(wo, si.ng) > 0;
-  const Vec3 ng = front ? si.ng : -si.ng;  // geometric normal on the viewer's side
-  const Vec3 ns = front ? si.ns : -si.ns;
-  const Frame frame = Frame::from_z(ns);
-  const Bsdf bsdf(lobes_, si.material, wl, front);
+  si.front = glm::dot(wo, si.ng) > 0;
+  si.wl = &wl;
+  const Vec3 ng = si.front ? si.ng : -si.ng;  // geometric normal on the viewer's side
+  const Frame frame = si.shading_frame();
+  const Bsdf bsdf = lobes_.bsdf(si);
   if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
   if (depth + 1 > settings_.max_depth) return end_path();
   const Vec3 wo_local = frame.to_local(wo);

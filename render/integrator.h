@@ -8,6 +8,8 @@
 #include "core/band.h"
 #include "core/rng.h"
 #include "render/embree_scene.h"
+#include "render/materials/hit_context.h"
+#include "render/materials/material.h"
 #include "render/media/haze.h"
 #include "render/scene.h"
 #include "render/testing/faults.h"
@@ -23,21 +25,6 @@ namespace sylva {
 struct IntegratorSettings {
   int max_depth = 1024;    // scattering events per path: a safety cap
   int rr_start_depth = 3;  // Russian roulette from this bounce on
-};
-
-// A surface point as the integrator sees it (world space), and what was hit: the instance (a
-// placed tree, target or ground), its prototype, the primitive (triangle or leaf quad index in the
-// prototype) and, for a leaf of a tree model, the stem carrying it (TreeLeaves::stem).
-struct SurfaceInteraction {
-  Vec3 p;
-  Vec3 ng;  // geometric normal, unit; for leaves the upper (adaxial) side
-  Vec3 ns;  // shading normal, unit, on the same side as ng
-  uint32_t material = 0;
-  uint32_t instance = 0;
-  uint32_t prototype = 0;
-  uint32_t primitive = 0;
-  bool leaf = false;
-  int32_t stem = -1;  // the leaf's stem in its tree model; -1 for triangles and leaves without one
 };
 
 // First-hit data for the AOVs.
@@ -137,8 +124,9 @@ class Integrator {
   static constexpr int kMaxPaths = 16;
   void trace_paths(std::span<PathState> paths, uint64_t& rays) const;
 
-  // The surface at a hit (world space), from the prototype's mesh data.
-  SurfaceInteraction interaction(const Ray& ray, const RayHit& hit) const;
+  // The hit's context (world space), from the prototype's mesh data: everything but the face and
+  // the wavelengths, which the caller sets before a material is evaluated.
+  HitContext interaction(const Ray& ray, const RayHit& hit) const;
 
   // Beer's law along o + t d (d unit) through the turbid crowns it crosses, exp(−Σ σ_t·length),
   // σ_t = G·LAD; assumes no opaque surface on the way (check occluded() first) and crowns that do
@@ -162,13 +150,13 @@ class Integrator {
   TransportFaults faults_;
   bool has_media_ = false;  // some prototype has a turbid crown
   Haze haze_;               // the scene's haze; disabled: no extra work, no random numbers
-  MaterialLobes lobes_;     // the scene's materials, interleaved for the BSDFs at hits
+  MaterialLobes lobes_;     // the scene's materials as evaluated at hits (BSDFs, emission)
 
   // trace_paths' stages: advance() shades path.ray's hit, leaving the bounce's shadow ray in
   // path.shadow and the next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
   void advance(PathState& path, bool found, const RayHit& hit) const;
   void resolve_shadow(PathState& path, uint64_t& rays) const;
-  void record_first_hit(const SurfaceInteraction& si, const Bsdf& bsdf, float t, FirstHit* first) const;
+  void record_first_hit(const HitContext& si, const Bsdf& bsdf, float t, FirstHit* first) const;
   // The turbid crown a hit is on, or nullptr.
   const HalfSpaceSolid* turbid_solid(const RayHit& hit) const;
 };

@@ -316,7 +316,7 @@ Image Renderer::make_image(const Film& film) const {
         const Ray ray = camera_.generate_ray(Vec2(x + 0.5f, y + 0.5f), Vec2(0.5f));
         RayHit hit;
         if (embree_.intersect(ray, &hit)) {
-          const SurfaceInteraction si = integrator_->interaction(ray, hit);
+          const HitContext si = integrator_->interaction(ray, hit);
           const Vec3 n = glm::dot(si.ng, ray.direction) > 0 ? -si.ng : si.ng;
           image.at(ix, iy, z) = hit.t * glm::dot(ray.direction, forward);
           image.at(ix, iy, z + 1) = n.x;

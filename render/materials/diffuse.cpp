@@ -9,7 +9,7 @@ namespace sylva {
 
 DiffuseMaterial make_diffuse(const std::string& name, const DenseSpectrum& reflectance) {
   check_unit_range(name, "reflectance", reflectance);
-  return DiffuseMaterial{reflectance};
+  return DiffuseMaterial{{reflectance}};
 }
 
 DiffuseMaterial DiffuseMaterial::create(const std::string& name, const Params& params) {
@@ -32,10 +32,6 @@ DiffuseMaterial DiffuseMaterial::create(const std::string& name, const Params& p
   } catch (const Error& e) {
     params.fail(e.what());
   }
-}
-
-void DiffuseMaterial::lobes(const SampledWavelengths& wl, bool, SampledSpectrum& reflect, SampledSpectrum&) const {
-  reflect = reflectance.eval(wl);
 }
 
 }  // namespace sylva

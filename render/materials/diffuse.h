@@ -5,6 +5,9 @@
 
 #include "core/params.h"
 #include "core/spectrum.h"
+#include "render/materials/bsdf.h"
+#include "render/materials/hit_context.h"
+#include "render/materials/texture.h"
 
 #include <string>
 #include <string_view>
@@ -15,14 +18,16 @@ struct DiffuseMaterial {
   static constexpr std::string_view kType = "diffuse";
   static constexpr bool kFoliage = false;  // the flux budget counts it as bark or ground
 
-  DenseSpectrum reflectance;
+  SpectrumTexture reflectance;
 
   // Reads `reflectance`, or `rgb` (linear sRGB, Smits up-sampling); throws ParseError for a missing or
   // unphysical spectrum.
   static DiffuseMaterial create(const std::string& name, const Params& params);
-  // The reflected and transmitted spectra at the carried wavelengths.
-  void lobes(const SampledWavelengths& wl, bool front, SampledSpectrum& reflect, SampledSpectrum& transmit) const;
-  const DenseSpectrum& display_reflectance() const { return reflectance; }
+  // One Lambertian reflection lobe, the same on both faces.
+  void add_lobes(const HitContext& ctx, Bsdf& bsdf) const { bsdf.add(LambertLobe{reflectance.eval(ctx), false}); }
+  bool varies() const { return reflectance.varies(); }
+  const DenseSpectrum& display_reflectance() const { return reflectance.spectrum; }
+  void scale_reflectance(float factor) { reflectance *= factor; }
 };
 
 // Throws sylva::Error (naming `name`) if the reflectance leaves [0, 1].

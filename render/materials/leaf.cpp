@@ -52,7 +52,7 @@ LeafMaterial make_leaf(const std::string& name, const DenseSpectrum& rf, const D
   check_unit_range(name, "back transmittance", tb);
   check_energy(name, rf, tf, "front");
   check_energy(name, rb, tb, "back");
-  return LeafMaterial{rf, tf, rb, tb};
+  return LeafMaterial{{rf}, {tf}, {rb}, {tb}};
 }
 
 LeafMaterial LeafMaterial::create(const std::string& name, const Params& params) {
@@ -68,12 +68,6 @@ LeafMaterial LeafMaterial::create(const std::string& name, const Params& params)
   } catch (const Error& e) {
     params.fail(e.what());
   }
-}
-
-void LeafMaterial::lobes(const SampledWavelengths& wl, bool front, SampledSpectrum& reflect,
-                         SampledSpectrum& transmit) const {
-  reflect = front ? reflectance_front.eval(wl) : reflectance_back.eval(wl);
-  transmit = front ? transmittance_front.eval(wl) : transmittance_back.eval(wl);
 }
 
 }  // namespace sylva

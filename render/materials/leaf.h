@@ -8,6 +8,9 @@
 
 #include "core/params.h"
 #include "core/spectrum.h"
+#include "render/materials/bsdf.h"
+#include "render/materials/hit_context.h"
+#include "render/materials/texture.h"
 
 #include <string>
 #include <string_view>
@@ -18,13 +21,25 @@ struct LeafMaterial {
   static constexpr std::string_view kType = "leaf";
   static constexpr bool kFoliage = true;  // the flux budget counts its absorption as the leaves'
 
-  DenseSpectrum reflectance_front, transmittance_front;
-  DenseSpectrum reflectance_back, transmittance_back;
+  SpectrumTexture reflectance_front, transmittance_front;
+  SpectrumTexture reflectance_back, transmittance_back;
 
   static LeafMaterial create(const std::string& name, const Params& params);
-  // Light arriving at the back face sees the back spectra; transmission is reciprocal.
-  void lobes(const SampledWavelengths& wl, bool front, SampledSpectrum& reflect, SampledSpectrum& transmit) const;
-  const DenseSpectrum& display_reflectance() const { return reflectance_front; }
+  // A Lambertian reflection and a Lambertian transmission lobe; light arriving at the back face
+  // (ctx.front false) sees the back spectra; transmission is reciprocal.
+  void add_lobes(const HitContext& ctx, Bsdf& bsdf) const {
+    bsdf.add(LambertLobe{(ctx.front ? reflectance_front : reflectance_back).eval(ctx), false});
+    bsdf.add(LambertLobe{(ctx.front ? transmittance_front : transmittance_back).eval(ctx), true});
+  }
+  bool varies() const {
+    return reflectance_front.varies() || transmittance_front.varies() || reflectance_back.varies() ||
+           transmittance_back.varies();
+  }
+  const DenseSpectrum& display_reflectance() const { return reflectance_front.spectrum; }
+  void scale_reflectance(float factor) {
+    reflectance_front *= factor;
+    reflectance_back *= factor;
+  }
 };
 
 // Throw sylva::Error (naming `name`) if any value is outside [0,1] or ρ + τ > 1 anywhere.

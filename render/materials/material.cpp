@@ -33,48 +33,97 @@ Material create_material(const std::string& name, const Params& params) {
   return std::move(*m);
 }
 
-MaterialLobes::MaterialLobes(const std::vector<Material>& materials)
-    : table_(2 * materials.size() * static_cast<size_t>(kLambdaSamples)) {
-  // Each material's lobes at the grid wavelengths themselves, four at a time: there the lerp's
-  // fraction is 0, so these are the spectra's grid values exactly (but for the last, 2500 nm,
-  // which DenseSpectrum::eval reaches as v[n−2] + 1·(v[n−1] − v[n−2]): at most an ulp apart).
-  for (size_t m = 0; m < materials.size(); ++m)
-    for (int i = 0; i < kLambdaSamples; i += kLambdaCount) {
-      SampledWavelengths wl;
-      for (int k = 0; k < kLambdaCount; ++k)
-        wl.lambda_nm[k] = DenseSpectrum::grid_lambda(std::min(i + k, kLambdaSamples - 1));
-      SampledSpectrum rf(0.0f), tf(0.0f), rb(0.0f), tb(0.0f);
-      std::visit(
-          [&](const auto& material) {
-            material.lobes(wl, true, rf, tf);
-            material.lobes(wl, false, rb, tb);
-          },
-          materials[m]);
-      for (int k = 0; k < kLambdaCount && i + k < kLambdaSamples; ++k) {
-        table_[2 * m * kLambdaSamples + static_cast<size_t>(i + k)] = {rf[k], tf[k]};
-        table_[(2 * m + 1) * kLambdaSamples + static_cast<size_t>(i + k)] = {rb[k], tb[k]};
-      }
-    }
+namespace {
+
+// The material's emitted(ctx), or black for a material without one.
+template <typename M>
+SampledSpectrum emitted_of(const M& m, const HitContext& ctx) {
+  if constexpr (requires { m.emitted(ctx); })
+    return m.emitted(ctx);
+  else
+    return SampledSpectrum(0.0f);
 }
 
-Bsdf::Bsdf(const Material& material, const SampledWavelengths& wl, bool front) {
-  std::visit([&](const auto& m) { m.lobes(wl, front, reflect_, transmit_); }, material);
-  select_lobes();
+}  // namespace
+
+Bsdf material_bsdf(const Material& material, const HitContext& ctx) {
+  Bsdf bsdf;
+  std::visit([&](const auto& m) { m.add_lobes(ctx, bsdf); }, material);
+  bsdf.finish();
+  return bsdf;
+}
+
+bool emits(const Material& material) {
+  return std::visit(
+      [](const auto& m) {
+        return requires(const HitContext& c) { m.emitted(c); };
+      },
+      material);
+}
+
+SampledSpectrum emitted_radiance(const Material& material, const HitContext& ctx) {
+  return std::visit([&](const auto& m) { return emitted_of(m, ctx); }, material);
+}
+
+const DenseSpectrum& display_reflectance(const Material& material) {
+  return std::visit([](const auto& m) -> const DenseSpectrum& { return m.display_reflectance(); }, material);
+}
+
+bool is_foliage(const Material& material) {
+  return std::visit([](const auto& m) { return std::decay_t<decltype(m)>::kFoliage; }, material);
 }
 
 Material scaled_reflectance(const Material& m, float factor) {
   Material out = m;
-  std::visit(
-      [factor](auto& mat) {
-        if constexpr (std::is_same_v<std::decay_t<decltype(mat)>, DiffuseMaterial>) {
-          mat.reflectance *= factor;
-        } else {
-          mat.reflectance_front *= factor;
-          mat.reflectance_back *= factor;
-        }
-      },
-      out);
+  std::visit([factor](auto& mat) { mat.scale_reflectance(factor); }, out);
   return out;
+}
+
+MaterialLobes::MaterialLobes(const std::vector<Material>& materials)
+    : materials_(&materials),
+      layouts_(2 * materials.size()),
+      table_(2 * materials.size() * static_cast<size_t>(kLambdaSamples)),
+      emits_(materials.size()) {
+  // Each material's lobes at the grid wavelengths themselves, four at a time: there the lerp's
+  // fraction is 0, so these are the spectra's grid values exactly (but for the last, 2500 nm,
+  // which DenseSpectrum::eval reaches as v[n−2] + 1·(v[n−1] − v[n−2]): at most an ulp apart).
+  for (size_t m = 0; m < materials.size(); ++m) {
+    emits_[m] = sylva::emits(materials[m]) ? 1 : 0;
+    if (std::visit([](const auto& mat) { return mat.varies(); }, materials[m])) continue;
+    for (size_t face = 2 * m; face < 2 * m + 2; ++face) {
+      Layout layout;
+      layout.tabulated = true;
+      for (int i = 0; i < kLambdaSamples && layout.tabulated; i += kLambdaCount) {
+        SampledWavelengths wl;
+        for (int k = 0; k < kLambdaCount; ++k)
+          wl.lambda_nm[k] = DenseSpectrum::grid_lambda(std::min(i + k, kLambdaSamples - 1));
+        HitContext ctx;
+        ctx.front = face == 2 * m;
+        ctx.wl = &wl;
+        const Bsdf bsdf = material_bsdf(materials[m], ctx);
+        // Tabulated: at most kTabulatedLobes Lambertian lobes, the same kinds at every wavelength.
+        if (i == 0 && bsdf.lobe_count() <= kTabulatedLobes) {
+          layout.count = bsdf.lobe_count();
+          for (int l = 0; l < layout.count; ++l)
+            if (const auto* lobe = std::get_if<LambertLobe>(&bsdf.lobe(l)))
+              layout.transmission[l] = lobe->transmission;
+            else
+              layout.tabulated = false;
+        }
+        if (bsdf.lobe_count() != layout.count) layout.tabulated = false;
+        for (int l = 0; l < layout.count && layout.tabulated; ++l) {
+          const auto* lobe = std::get_if<LambertLobe>(&bsdf.lobe(l));
+          if (lobe == nullptr || lobe->transmission != layout.transmission[l]) {
+            layout.tabulated = false;
+            break;
+          }
+          for (int k = 0; k < kLambdaCount && i + k < kLambdaSamples; ++k)
+            table_[face * kLambdaSamples + static_cast<size_t>(i + k)].albedo[l] = lobe->albedo[k];
+        }
+      }
+      layouts_[face] = layout;
+    }
+  }
 }
 
 }  // namespace sylva

@@ -1,19 +1,23 @@
 #pragma once
 // Materials: a closed set (std::variant, so a missing case is a compile error) that is open to
 // extension. Each material type lives in its own file pair and provides
-//   static constexpr std::string_view kType;                 // the scene file's `type = "..."`
-//   static T create(const std::string& name, const Params&); // reads its own parameters
-//   void lobes(wl, front, reflect, transmit) const;           // its diffuse lobes at a hit
-// Adding a material = its files + one entry in the `Material` variant below.
-//
-// Directions are in the local shading frame: z = shading normal on the side the light arrives from
-// or leaves to; `wo` points away from the surface towards the previous vertex.
+//   static constexpr std::string_view kType;                  // the scene file's `type = "..."`
+//   static constexpr bool kFoliage;                           // the flux budget counts it as leaves
+//   static T create(const std::string& name, const Params&);  // reads its own parameters
+//   void add_lobes(const HitContext&, Bsdf&) const;            // its BSDF's lobes at a hit
+//   bool varies() const;                                       // parameters vary over the surface
+//   const DenseSpectrum& display_reflectance() const;          // a viewer's colour (OBJ Kd)
+//   void scale_reflectance(float factor);                      // every reflectance × factor
+// and, if it emits,
+//   SampledSpectrum emitted(const HitContext&) const;          // radiance towards wo (ctx.front)
+// Adding a material = its files + one entry in the `Material` variant below. Nothing outside
+// render/materials/ visits material types: it calls the functions below.
 
-#include "core/math.h"
 #include "core/params.h"
-#include "core/sampling.h"
 #include "core/spectrum.h"
+#include "render/materials/bsdf.h"
 #include "render/materials/diffuse.h"
+#include "render/materials/hit_context.h"
 #include "render/materials/leaf.h"
 
 #include <string>
@@ -29,108 +33,72 @@ using Material = std::variant<DiffuseMaterial, LeafMaterial>;
 // Throws ParseError for an unknown type or a bad parameter.
 Material create_material(const std::string& name, const Params& params);
 
-// Material operations for code outside render/materials/ (none of it switches on material types):
-// the spectrum a viewer sees as the material's colour (its front reflectance; the OBJ exporter's
+// The BSDF of `material` at `ctx` (ctx.wl and ctx.front set).
+Bsdf material_bsdf(const Material& material, const HitContext& ctx);
+
+// Whether `material` emits, and its emitted radiance (W·m⁻²·sr⁻¹·nm⁻¹) towards wo at `ctx`.
+bool emits(const Material& material);
+SampledSpectrum emitted_radiance(const Material& material, const HitContext& ctx);
+
+// The spectrum a viewer sees as the material's colour (its front reflectance; the OBJ exporter's
 // Kd), and whether the plot sensor's flux budget counts its absorption as the leaves' (fAPAR).
-// Each type provides display_reflectance() and kFoliage.
-inline const DenseSpectrum& display_reflectance(const Material& material) {
-  return std::visit([](const auto& m) -> const DenseSpectrum& { return m.display_reflectance(); }, material);
-}
-inline bool is_foliage(const Material& material) {
-  return std::visit([](const auto& m) { return std::decay_t<decltype(m)>::kFoliage; }, material);
-}
-
-// Every material's lobes on the dense 1 nm grid, per face, ρ and τ interleaved per grid point: a
-// BSDF at four wavelengths reads four 16-byte pieces, not a line per spectrum and wavelength
-// (bench/README.md, "The sky's table and spectral tables"). Built per render from the scene's materials as they are
-// then; its values are the materials' own (a lerp of the same grid values, the same bits).
-class MaterialLobes {
- public:
-  MaterialLobes() = default;
-  explicit MaterialLobes(const std::vector<Material>& materials);
-  void lobes(uint32_t material, const SampledWavelengths& wl, bool front, SampledSpectrum& reflect,
-             SampledSpectrum& transmit) const {
-    const GridLobes* grid = &table_[(2 * static_cast<size_t>(material) + (front ? 0 : 1)) * kLambdaSamples];
-    const GridPositions g = grid_positions(wl);
-    const GridLobes* a[kLambdaCount];
-    for (int k = 0; k < kLambdaCount; ++k) a[k] = grid + g.index[k];
-    // DenseSpectrum::eval's lerp, four wavelengths at a time.
-    const SampledSpectrum r0(a[0][0].reflect, a[1][0].reflect, a[2][0].reflect, a[3][0].reflect);
-    const SampledSpectrum r1(a[0][1].reflect, a[1][1].reflect, a[2][1].reflect, a[3][1].reflect);
-    const SampledSpectrum t0(a[0][0].transmit, a[1][0].transmit, a[2][0].transmit, a[3][0].transmit);
-    const SampledSpectrum t1(a[0][1].transmit, a[1][1].transmit, a[2][1].transmit, a[3][1].transmit);
-    reflect = r0 + g.fraction * (r1 - r0);
-    transmit = t0 + g.fraction * (t1 - t0);
-  }
-
- private:
-  struct GridLobes {
-    float reflect, transmit;
-  };
-  std::vector<GridLobes> table_;  // [(2 · material + back) · kLambdaSamples + grid index]
-};
-
-// BSDF at a hit, evaluated for the carried wavelengths. `front` is whether `wo` is on the side of
-// the geometric normal (the leaf's upper face).
-struct BsdfSample {
-  Vec3 wi;                // local frame
-  SampledSpectrum value;  // f · |cos θi| / pdf
-  float pdf = 0;
-  bool transmitted = false;
-};
-
-class Bsdf {
- public:
-  Bsdf(const Material& material, const SampledWavelengths& wl, bool front);
-  // The same from the render's interleaved table (identical values).
-  // Inline, with eval, pdf and sample: they run at every path vertex (bench/README.md).
-  Bsdf(const MaterialLobes& table, uint32_t material, const SampledWavelengths& wl, bool front) {
-    table.lobes(material, wl, front, reflect_, transmit_);
-    select_lobes();
-  }
-
-  // f(wo, wi) (no cosine); local frame, z = normal on the wo side.
-  SampledSpectrum eval(const Vec3& wo, const Vec3& wi) const {
-    const bool same_side = (wo.z > 0) == (wi.z > 0);
-    return (same_side ? reflect_ : transmit_) * kInvPi;
-  }
-  float pdf(const Vec3& wo, const Vec3& wi) const {
-    const bool same_side = (wo.z > 0) == (wi.z > 0);
-    return select(same_side, p_reflect_, 1.0f - p_reflect_) * cosine_hemisphere_pdf(std::abs(wi.z));
-  }
-  // Returns false when no direction could be sampled. The lobe is a random choice: selected, not
-  // branched on.
-  bool sample(const Vec3& wo, Vec2 u, float u_lobe, BsdfSample* out) const {
-    Vec3 wi = sample_cosine_hemisphere(u);
-    if (wi.z <= 0) return false;
-    const bool transmit = u_lobe >= p_reflect_;
-    const float side = select(wo.z >= 0, 1.0f, -1.0f);
-    wi.z *= select(transmit, -side, side);
-    const float lobe_p = select(transmit, 1.0f - p_reflect_, p_reflect_);
-    if (lobe_p <= 0) return false;
-    out->wi = wi;
-    out->pdf = lobe_p * cosine_hemisphere_pdf(std::abs(wi.z));
-    out->transmitted = transmit;
-    out->value = (transmit ? transmit_ : reflect_) / lobe_p;  // f·cos/pdf = (ρ/π)·cos / (p·cos/π)
-    return out->pdf > 0;
-  }
-  // Hemispherical reflectance + transmittance (for the albedo AOV).
-  SampledSpectrum albedo() const { return reflect_ + transmit_; }
-  SampledSpectrum reflectance() const { return reflect_; }
-
- private:
-  void select_lobes() {  // p_reflect_ from the lobes' albedos
-    const float r = average(reflect_), t = average(transmit_);
-    p_reflect_ = (r + t) > 0 ? r / (r + t) : 1.0f;
-  }
-
-  SampledSpectrum reflect_{0.0f};
-  SampledSpectrum transmit_{0.0f};
-  float p_reflect_ = 1.0f;  // lobe selection probability
-};
+const DenseSpectrum& display_reflectance(const Material& material);
+bool is_foliage(const Material& material);
 
 // A copy of `m` with every reflectance (not transmittance) scaled by `factor`: the one
 // material-neutral edit scene assembly makes (a dead branch's darker bark).
 Material scaled_reflectance(const Material& m, float factor);
+
+// The scene's materials as the render evaluates them at hits. A material whose BSDF depends on the
+// wavelengths and the face only (no varying parameter) and is at most kTabulatedLobes Lambertian
+// lobes is tabulated: its lobes' albedos on the dense 1 nm grid, per face, interleaved per grid
+// point, so a BSDF at four wavelengths reads four 16-byte pieces, not a line per spectrum and
+// wavelength (bench/README.md, "The sky's table and spectral tables"). Its values are the
+// materials' own (a lerp of the same grid values, the same bits). Other materials are evaluated
+// at the hit. Built per render from the scene's materials, which must outlive it.
+class MaterialLobes {
+ public:
+  static constexpr int kTabulatedLobes = 2;
+
+  MaterialLobes() = default;
+  explicit MaterialLobes(const std::vector<Material>& materials);
+
+  // The BSDF at `ctx` (ctx.material, ctx.wl and ctx.front set): material_bsdf's, bit for bit.
+  Bsdf bsdf(const HitContext& ctx) const {
+    const size_t face = 2 * static_cast<size_t>(ctx.material) + (ctx.front ? 0 : 1);
+    const Layout& layout = layouts_[face];
+    if (!layout.tabulated) return material_bsdf((*materials_)[ctx.material], ctx);
+    const GridLobes* grid = &table_[face * kLambdaSamples];
+    const GridPositions g = grid_positions(*ctx.wl);
+    const GridLobes* a[kLambdaCount];
+    for (int k = 0; k < kLambdaCount; ++k) a[k] = grid + g.index[k];
+    Bsdf bsdf;
+    for (int l = 0; l < layout.count; ++l) {
+      // DenseSpectrum::eval's lerp, four wavelengths at a time.
+      const SampledSpectrum v0(a[0][0].albedo[l], a[1][0].albedo[l], a[2][0].albedo[l], a[3][0].albedo[l]);
+      const SampledSpectrum v1(a[0][1].albedo[l], a[1][1].albedo[l], a[2][1].albedo[l], a[3][1].albedo[l]);
+      bsdf.add(LambertLobe{v0 + g.fraction * (v1 - v0), layout.transmission[l]});
+    }
+    bsdf.finish();
+    return bsdf;
+  }
+  // Whether material `material` emits; its radiance towards wo at `ctx`.
+  bool emits(uint32_t material) const { return emits_[material] != 0; }
+  SampledSpectrum emitted(const HitContext& ctx) const { return emitted_radiance((*materials_)[ctx.material], ctx); }
+
+ private:
+  struct GridLobes {
+    float albedo[kTabulatedLobes];
+  };
+  struct Layout {
+    bool tabulated = false;
+    int count = 0;
+    bool transmission[kTabulatedLobes] = {};
+  };
+  const std::vector<Material>* materials_ = nullptr;
+  std::vector<Layout> layouts_;   // [2 · material + back]
+  std::vector<GridLobes> table_;  // [(2 · material + back) · kLambdaSamples + grid index]
+  std::vector<uint8_t> emits_;    // [material]
+};
 
 }  // namespace sylva

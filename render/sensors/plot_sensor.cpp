@@ -186,13 +186,13 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
           if (ray.direction.z > 0) x[kReflected] += beta;
           break;
         }
-        const SurfaceInteraction si = integrator.interaction(ray, hit);
+        HitContext si = integrator.interaction(ray, hit);
         const Vec3 wo = -ray.direction;
-        const bool front = glm::dot(wo, si.ng) > 0;
-        const Vec3 ng = front ? si.ng : -si.ng;
-        const Vec3 ns = front ? si.ns : -si.ns;
-        const Frame frame = Frame::from_z(ns);
-        const Bsdf bsdf(scene.materials[si.material], wl, front);
+        si.front = glm::dot(wo, si.ng) > 0;
+        si.wl = &wl;
+        const Vec3 ng = si.front ? si.ng : -si.ng;
+        const Frame frame = si.shading_frame();
+        const Bsdf bsdf = material_bsdf(scene.materials[si.material], si);
         const Term where = category(si.material);
         if (where == kGround) {
           x[kGroundTotal] += beta;

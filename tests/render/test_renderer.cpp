@@ -282,7 +282,7 @@ TEST(LeafStem, AHitLeafNamesTheStemThatCarriesIt) {
       const Ray ray{origin, Vec3(0, 1, 0)};
       RayHit hit;
       if (!embree.intersect(ray, &hit)) continue;
-      const SurfaceInteraction si = integrator.interaction(ray, hit);
+      const HitContext si = integrator.interaction(ray, hit);
       EXPECT_EQ(si.instance, 0u);
       EXPECT_EQ(si.prototype, 0u);
       EXPECT_EQ(si.primitive, hit.primitive);
@@ -322,7 +322,7 @@ TEST(LeafStem, AHitLeafNamesTheStemThatCarriesIt) {
       const Ray at_cloud{Vec3(39 + 0.2f * i, -20, 1 + 0.2f * j), Vec3(0, 1, 0)};
       RayHit hit;
       if (!embree.intersect(at_cloud, &hit)) continue;
-      const SurfaceInteraction si = integrator.interaction(at_cloud, hit);
+      const HitContext si = integrator.interaction(at_cloud, hit);
       EXPECT_TRUE(si.leaf);
       EXPECT_EQ(si.instance, 1u);
       EXPECT_EQ(si.stem, -1);

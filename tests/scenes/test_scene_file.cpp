@@ -202,8 +202,8 @@ leaf = "grey"
   EXPECT_EQ(dead.leaves.size(), 0u);
   const uint32_t bark = f.scene.prototypes[0].triangle_material;
   ASSERT_NE(dead.triangle_material, bark);
-  const auto& live_rho = std::get<DiffuseMaterial>(f.scene.materials[bark]).reflectance;
-  const auto& dead_rho = std::get<DiffuseMaterial>(f.scene.materials[dead.triangle_material]).reflectance;
+  const auto& live_rho = std::get<DiffuseMaterial>(f.scene.materials[bark]).reflectance.spectrum;
+  const auto& dead_rho = std::get<DiffuseMaterial>(f.scene.materials[dead.triangle_material]).reflectance.spectrum;
   for (const float lambda : {400.0f, 550.0f, 700.0f, 850.0f})
     EXPECT_FLOAT_EQ(dead_rho.eval(lambda), kDeadBarkReflectanceScale * live_rho.eval(lambda)) << lambda;
 
@@ -392,8 +392,8 @@ rgb = [0.1, 0.4, 0.8]
   // The rgb colour became a Smits spectrum: bluish, bounded.
   const DiffuseMaterial* paint = std::get_if<DiffuseMaterial>(&f.scene.materials.back());
   ASSERT_NE(paint, nullptr);
-  EXPECT_GT(paint->reflectance.eval(450.0f), paint->reflectance.eval(650.0f));
-  EXPECT_LE(paint->reflectance.max_value(), 1.0f);
+  EXPECT_GT(paint->reflectance.spectrum.eval(450.0f), paint->reflectance.spectrum.eval(650.0f));
+  EXPECT_LE(paint->reflectance.spectrum.max_value(), 1.0f);
   // A stated sky spectrum switches the Preetham sky to per-wavelength matching.
   const SceneFile stated =
       parse_scene("[sky]\nmodel = \"preetham\"\nspectrum = 0.5\n", "scene.toml", SYLVA_SOURCE_DIR "/data/examples");

@@ -95,14 +95,14 @@ translate = [2, 0, 0]
 
   // White bracts, green leaves, brown bark — reflectances in [0, 1].
   const auto& petal = std::get<LeafMaterial>(material_of(f, flowers.leaf_material));
-  EXPECT_NEAR(petal.reflectance_front.eval(550.0f), 0.95f, 0.01f);
-  EXPECT_LE(petal.reflectance_front.max_value(), 1.0f);
+  EXPECT_NEAR(petal.reflectance_front.spectrum.eval(550.0f), 0.95f, 0.01f);
+  EXPECT_LE(petal.reflectance_front.spectrum.max_value(), 1.0f);
   const auto& leaf = std::get<LeafMaterial>(material_of(f, tree.leaf_material));
-  EXPECT_GT(leaf.reflectance_front.eval(540.0f), 3.0f * leaf.reflectance_front.eval(450.0f));
-  EXPECT_GT(leaf.reflectance_front.eval(540.0f), 3.0f * leaf.reflectance_front.eval(650.0f));
+  EXPECT_GT(leaf.reflectance_front.spectrum.eval(540.0f), 3.0f * leaf.reflectance_front.spectrum.eval(450.0f));
+  EXPECT_GT(leaf.reflectance_front.spectrum.eval(540.0f), 3.0f * leaf.reflectance_front.spectrum.eval(650.0f));
   const auto& bark = std::get<DiffuseMaterial>(material_of(f, tree.triangle_material));
-  EXPECT_GT(bark.reflectance.eval(650.0f), 2.0f * bark.reflectance.eval(450.0f));
-  EXPECT_LT(bark.reflectance.max_value(), 0.5f);
+  EXPECT_GT(bark.reflectance.spectrum.eval(650.0f), 2.0f * bark.reflectance.spectrum.eval(450.0f));
+  EXPECT_LT(bark.reflectance.spectrum.max_value(), 0.5f);
 }
 
 TEST(TreeMakerScene, SceneMaterialsOverrideTheTemplate) {
