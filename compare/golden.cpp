@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/input_file.h"
+#include "pipeline/render_call.h"
 #include "scenes/toml_reader.h"
 
 #include <fmt/core.h>
@@ -91,21 +92,36 @@ std::string image_hash(const Image& image) {
   return hex64(h.value());
 }
 
-Image render_scene(const SceneFile& file, const EmbreeScene& embree, int spp, uint64_t seed,
-                   const std::function<void(RenderSettings&)>& adjust, const TransportFaults& faults) {
-  RenderSettings settings = render_settings(file);
-  settings.spp = spp;
-  settings.seed = seed;
-  settings.progress = false;
-  settings.isa = embree.stats().isa;  // what traced it, for the header (kGoldenIsa for the suite)
-  if (adjust) adjust(settings);
-  Renderer renderer(file.scene, embree, settings, faults);
-  Film film = renderer.make_film();
-  renderer.render(film);
-  Image image = renderer.make_image(film);
-  annotate_render(image, file, settings);
-  return image;
+namespace {
+
+// A golden case through the render call: its scene file, in memory, with the reference BVH build
+// and Embree's AVX2 kernels (kGoldenIsa), and the power tests' seams.
+RenderCallOptions golden_call(const GoldenCase& c, const std::function<void(Scene&)>& modify = {},
+                              const TransportFaults& faults = {}) {
+  RenderCallOptions o;
+  o.request.source = SceneSource::from_file(c.scene.string());
+  o.memory_check = false;
+  o.seams.bvh = BvhBuild::kThorough;
+  o.seams.isa = kGoldenIsa;
+  o.seams.modify_scene = modify;
+  o.seams.faults = faults;
+  return o;
 }
+
+// One image of a loaded case at `spp` and `seed`; `adjust` may change the settings further.
+Image render_golden(const LoadedScene& loaded, const RenderCallOptions& options, int spp, uint64_t seed,
+                    const std::function<void(RenderSettings&)>& adjust = {}) {
+  RenderObserver silent;
+  return render_loaded(loaded, options, silent,
+                       [&](RenderSettings& s) {
+                         s.spp = spp;
+                         s.seed = seed;
+                         if (adjust) adjust(s);
+                       })
+      .image;
+}
+
+}  // namespace
 
 CompareOptions golden_compare_options() {
   CompareOptions o;
@@ -114,50 +130,58 @@ CompareOptions golden_compare_options() {
 }
 
 void update_golden_case(const GoldenCase& c, const GoldenRecord& settings, bool progress) {
-  const SceneFile file = load_scene_file(c.scene);
   GoldenRecord g = settings;
-  const EmbreeScene embree(file.scene, TransportFaults{}, BvhBuild::kThorough, kGoldenIsa);
-  Image ref =
-      render_scene(file, embree, g.reference_spp, g.reference_seed, [&](RenderSettings& s) { s.progress = progress; });
-  const Image det = render_scene(file, embree, g.determinism_spp, g.determinism_seed);
+  RenderCallOptions options = golden_call(c);
+  RenderObserver silent;
+  const LoadedScene loaded = load_render(options, silent);  // one BVH for both renders
+  options.progress_bar = progress;
+  const Image ref = render_golden(loaded, options, g.reference_spp, g.reference_seed,
+                                  [&](RenderSettings& s) { s.progress = progress; });
+  const Image det = render_golden(loaded, options, g.determinism_spp, g.determinism_seed,
+                                  [](RenderSettings& s) { s.progress = false; });
   g.determinism_hash = image_hash(det);
-  g.scene_hash = file.content_hash;
+  g.scene_hash = loaded.job.file.content_hash;
   g.version = SYLVA_VERSION;
   write_exr(c.reference, ref);
   write_golden_record(c.record, g);
 }
 
 GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(RenderSettings&)>& adjust,
-                              const std::function<void(Scene&)>& modify, const TransportFaults& faults) {
+                              const std::function<void(Scene&)>& modify, const TransportFaults& faults,
+                              const std::vector<std::string>& overrides) {
   const GoldenRecord g = read_golden_record(c.record);
-  SceneFile file = load_scene_file(c.scene);
-  if (!g.scene_hash.empty() && g.scene_hash != file.content_hash)
+  const Image ref = read_exr(c.reference);
+  GoldenCheck out;
+  RenderCallOptions options = golden_call(c, modify, faults);
+  options.request.overrides = overrides;
+  RenderObserver silent;
+  const LoadedScene loaded = load_render(options, silent);  // one BVH for both renders
+  // The hash is the file's (and its inputs'): the power tests' change to the scene does not enter it.
+  const std::string& scene_hash = loaded.job.file.content_hash;
+  if (overrides.empty() && !g.scene_hash.empty() && g.scene_hash != scene_hash)
     throw Error(
         fmt::format("{}: the scene changed since its reference was rendered (hash {} vs {}); review it and "
                     "run `sylva golden update --only {}`",
-                    c.scene.string(), file.content_hash, g.scene_hash, c.name));
-  if (modify) modify(file.scene);
-  const Image ref = read_exr(c.reference);
-  GoldenCheck out;
-  const EmbreeScene embree(file.scene, faults, BvhBuild::kThorough, kGoldenIsa);  // built once for both renders
-  out.test = render_scene(file, embree, g.check_spp, g.check_seed, adjust, faults);
+                    c.scene.string(), scene_hash, g.scene_hash, c.name));
+  out.test = render_golden(loaded, options, g.check_spp, g.check_seed, adjust);
   // A reference rendered before an AOV existed is compared on the channels it has; a reference
   // with the position AOV checks it like depth.
-  CompareOptions options = golden_compare_options();
+  CompareOptions compare = golden_compare_options();
   if (ref.find_channel("P.X") < 0) {
     drop_channels(out.test, {"P.X", "P.Y", "P.Z"});
   } else {
-    for (const char* c : {"P.X", "P.Y", "P.Z"}) options.abs_tolerances.emplace_back(c, 1e-3);
+    for (const char* ch : {"P.X", "P.Y", "P.Z"}) compare.abs_tolerances.emplace_back(ch, 1e-3);
   }
   // The label AOVs id.class and id.variant (issue 9): a reference without them keeps its record,
   // so its determinism hash is taken over the channels it was recorded with.
   const bool without_labels = ref.find_channel("id.class") < 0;
   const std::vector<std::string> labels{"id.class", "id.variant"};
   if (without_labels) drop_channels(out.test, labels);
-  out.compare = compare_images(out.test, ref, options);
-  Image det = render_scene(file, embree, g.determinism_spp, g.determinism_seed, adjust, faults);
+  out.compare = compare_images(out.test, ref, compare);
+  Image det = render_golden(loaded, options, g.determinism_spp, g.determinism_seed, adjust);
   if (without_labels) drop_channels(det, labels);
   out.determinism_hash = image_hash(det);
+  out.determinism_checked = overrides.empty();
   out.determinism_matches = out.determinism_hash == g.determinism_hash;
   return out;
 }

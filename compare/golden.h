@@ -6,11 +6,11 @@
 //   <name>.toml  the record: reference and check sample counts and seeds, and the hash of a
 //                low-spp render that must be reproduced bit for bit (any logic change shows).
 // Checking renders the scene at the check spp with another seed and compares it statistically
-// with the reference (compare/image_compare.h), and re-renders the determinism image.
+// with the reference (compare/image_compare.h), and re-renders the determinism image. Every render
+// goes through the render call (pipeline/render_call.h): the case loaded once, rendered twice.
 
 #include "compare/image_compare.h"
 #include "core/image.h"
-#include "render/embree_scene.h"
 #include "render/testing/faults.h"
 #include "scenes/scene_file.h"
 
@@ -55,13 +55,6 @@ void write_golden_record(const std::filesystem::path& file, const GoldenRecord& 
 // Hash of an image's channel names and pixel bits (FNV-1a 64, hex): equal iff bit-identical.
 std::string image_hash(const Image& image);
 
-// Renders a scene at `spp` and `seed` (everything else from the file) to an annotated image,
-// through `embree` (built from file.scene, shared by the case's renders). `adjust` may change the
-// settings first (e.g. the thread count); `faults` is the power tests' seam (render/testing/faults.h),
-// none by default — build `embree` with the same faults.
-Image render_scene(const SceneFile& file, const EmbreeScene& embree, int spp, uint64_t seed,
-                   const std::function<void(RenderSettings&)>& adjust = {}, const TransportFaults& faults = {});
-
 // How golden images are compared: statistical radiance channels (z-test + mean-bias test), ids
 // exact, depth and normals within a small absolute tolerance.
 CompareOptions golden_compare_options();
@@ -74,11 +67,16 @@ struct GoldenCheck {
   CompareResult compare;
   std::string determinism_hash;  // what this build produced
   bool determinism_matches = false;
+  bool determinism_checked = true;  // false with overrides: the scene is not the recorded one
 };
 // `adjust` and `modify` change the settings and the scene before the check renders, and `faults`
 // injects transport faults (the power tests use them to show regressions are caught; a plain check
 // passes none).
+// `overrides` (`--set`) change the case's scene file: the check then shows whether the comparison
+// tells that scene from the reference; the scene-hash precondition and the determinism hash are
+// not checked (determinism_checked is false).
 GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(RenderSettings&)>& adjust = {},
-                              const std::function<void(Scene&)>& modify = {}, const TransportFaults& faults = {});
+                              const std::function<void(Scene&)>& modify = {}, const TransportFaults& faults = {},
+                              const std::vector<std::string>& overrides = {});
 
 }  // namespace sylva

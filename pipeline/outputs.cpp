@@ -53,19 +53,19 @@ void check_render_outputs(const RenderJob& job, const OutputPaths& paths, const 
         need.total() / kGiB, need.film_bytes / kGiB, need.image_bytes / kGiB, need.bvh_bytes / kGiB, available / kGiB));
 }
 
-Image annotated_image(const Renderer& renderer, const Film& film, const RenderJob& job) {
+Image annotated_image(const Renderer& renderer, const Film& film, const SceneFile& file) {
   Image image = renderer.make_image(film);
-  annotate_render(image, job.file, job.settings);
+  annotate_render(image, file, renderer.settings());
   return image;
 }
 
-void write_render_outputs(const Renderer& renderer, const Image& image, const RenderJob& job,
+void write_render_outputs(const Renderer& renderer, const Image& image, const SceneFile& file,
                           const std::filesystem::path& exr, const std::filesystem::path& png,
                           const PreviewOverrides& overrides) {
   write_exr(exr, image);
-  write_sidecar(sidecar_path(exr), job.file, job.settings, image, exr);
+  write_sidecar(sidecar_path(exr), file, renderer.settings(), image, exr);
   if (png.empty()) return;
-  write_render_preview(renderer, image, job.file.output, png, overrides);
+  write_render_preview(renderer, image, file.output, png, overrides);
 }
 
 void write_render_preview(const Renderer& renderer, const Image& image, const OutputSection& output,

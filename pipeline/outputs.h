@@ -31,11 +31,11 @@ struct OutputPaths {
 void check_render_outputs(const RenderJob& job, const OutputPaths& outputs, const PreviewOverrides& preview,
                           bool memory_check);
 
-// The film as an image with the render's header (annotate_render).
-Image annotated_image(const Renderer& renderer, const Film& film, const RenderJob& job);
+// The film as an image with the render's header (annotate_render, with the renderer's settings).
+Image annotated_image(const Renderer& renderer, const Film& film, const SceneFile& file);
 
 // `image` (annotated_image) as the EXR, its label sidecar and, if `png` is not empty, its preview.
-void write_render_outputs(const Renderer& renderer, const Image& image, const RenderJob& job,
+void write_render_outputs(const Renderer& renderer, const Image& image, const SceneFile& file,
                           const std::filesystem::path& exr, const std::filesystem::path& png,
                           const PreviewOverrides& preview);
 

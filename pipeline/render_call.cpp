@@ -34,20 +34,46 @@ void observe(RenderSettings& settings, const RenderCallOptions& options, RenderO
   settings.on_progress = [&observer](const ProgressReport& report) { observer.on_progress(report); };
 }
 
+// A film made by the caller's seam (sylva-mpi), or rendered in memory (no checkpoint: a renderer
+// polling the observer's flag, with the seams' faults), then the outputs.
+RenderResult render_film(const LoadedScene& loaded, RenderSettings settings, const RenderCallOptions& options,
+                         RenderObserver& observer, RenderResult result) {
+  const SceneFile& file = loaded.job.file;
+  observer.on_phase(RenderPhase::rendering);
+  settings.cancel = &observer.cancel_flag();
+  Renderer renderer(file.scene, *loaded.embree, settings, options.seams.faults);
+  Film film;
+  if (options.seams.film_source) {
+    film = options.seams.film_source(renderer, observer);
+  } else {
+    film = renderer.make_film();
+    result.stats = renderer.render(film);
+  }
+  result.film_samples = film.total_samples();
+  if (result.stats.interrupted) {
+    result.status = RenderStatus::interrupted;
+    return result;
+  }
+  observer.on_phase(RenderPhase::writing);
+  result.image = annotated_image(renderer, film, file);
+  if (!result.outputs.exr.empty())
+    write_render_outputs(renderer, result.image, file, result.outputs.exr, result.outputs.png, options.preview);
+  return result;
+}
+
 // One image: a session that checkpoints and resumes.
-RenderResult render_image(const RenderJob& job, const RenderCallOptions& options, RenderObserver& observer,
-                          RenderResult result) {
+RenderResult render_image(const LoadedScene& loaded, const RenderSettings& settings, const RenderCallOptions& options,
+                          RenderObserver& observer, RenderResult result) {
+  const SceneFile& file = loaded.job.file;
   const OutputPaths& outputs = result.outputs;
-  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings), job.settings.isa);
-  observer.on_message(scene_stats_line(embree.stats()));
   SessionOptions session_options;
   session_options.checkpoint = outputs.checkpoint;
-  session_options.key = checkpoint_key(job.file.content_hash, job.settings);
+  session_options.key = checkpoint_key(file.content_hash, settings);
   session_options.resume = options.resume;
   session_options.checkpoint_minutes = options.checkpoint_minutes;
   session_options.interrupt = &observer.cancel_flag();
   session_options.warn = [&observer](const std::string& message) { observer.on_warning(message); };
-  RenderSession session(job.file.scene, embree, job.settings, session_options);
+  RenderSession session(file.scene, *loaded.embree, settings, session_options);
   result.resumed_samples = session.resumed_samples();
   if (options.resume)
     observer.on_message(
@@ -65,10 +91,9 @@ RenderResult render_image(const RenderJob& job, const RenderCallOptions& options
   // write) loses no samples: resuming then only writes the outputs.
   session.save_checkpoint(rendered.film);
   observer.on_phase(RenderPhase::writing);
-  result.image = annotated_image(session.renderer(), rendered.film, job);
+  result.image = annotated_image(session.renderer(), rendered.film, file);
   try {
-    if (!outputs.exr.empty())
-      write_render_outputs(session.renderer(), result.image, job, outputs.exr, outputs.png, options.preview);
+    write_render_outputs(session.renderer(), result.image, file, outputs.exr, outputs.png, options.preview);
   } catch (const Error& e) {
     throw Error(
         fmt::format("{}\nthe rendered samples are kept in {}: fix the output and run the same command with "
@@ -84,20 +109,19 @@ RenderResult render_image(const RenderJob& job, const RenderCallOptions& options
 }
 
 // One chunk of a split render: its pixels and samples, saved as a partial file.
-RenderResult render_chunk(RenderJob job, const RenderCallOptions& options, RenderObserver& observer,
-                          RenderResult result) {
+RenderResult render_chunk(const LoadedScene& loaded, RenderSettings settings, const RenderCallOptions& options,
+                          RenderObserver& observer, RenderResult result) {
+  const SceneFile& file = loaded.job.file;
   const ChunkSpec spec = parse_chunk(options.chunk, options.split);
-  const ChunkWork work = chunk_work(spec, job.settings.width, job.settings.height, job.settings.spp);
+  const ChunkWork work = chunk_work(spec, settings.width, settings.height, settings.spp);
   PartialHeader header;
-  header.key = checkpoint_key(job.file.content_hash, job.settings);
+  header.key = checkpoint_key(file.content_hash, settings);
   header.chunk = spec;
-  header.spp = job.settings.spp;
-  header.job = describe_job(options.request, job);  // before rendering: it may refuse the request
-  job.settings.cancel = &observer.cancel_flag();
-  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings), job.settings.isa);
-  observer.on_message(scene_stats_line(embree.stats()));
+  header.spp = settings.spp;
+  header.job = describe_job(options.request, settings);  // before rendering: it may refuse the request
+  settings.cancel = &observer.cancel_flag();
   observer.on_phase(RenderPhase::rendering);
-  Renderer renderer(job.file.scene, embree, job.settings);
+  Renderer renderer(file.scene, *loaded.embree, settings);
   Film film = renderer.make_film(work.region, work.samples.first);
   result.stats = renderer.render(film, work.region, work.samples);
   result.film_samples = film.total_samples();
@@ -112,29 +136,30 @@ RenderResult render_chunk(RenderJob job, const RenderCallOptions& options, Rende
 
 }  // namespace
 
-RenderResult render_scene(const SceneSource& source, RenderCallOptions options, RenderObserver& observer) {
-  options.request.source = source;
-  return render_scene(options, observer);
-}
-
-RenderResult render_scene(const RenderCallOptions& options, RenderObserver& observer) {
+LoadedScene load_render(const RenderCallOptions& options, RenderObserver& observer) {
   const auto t0 = Clock::now();
   const bool chunk = !options.chunk.empty();
   if (chunk && !options.png.empty()) throw Error("--chunk writes a partial file; give --png to sylva merge");
   if (chunk && options.resume) throw Error("--chunk renders cannot be resumed; render the chunk again");
+  if (chunk && (options.seams.film_source || options.seams.modify_scene))
+    throw Error("a chunk of a split render is rendered from the scene as its file says");
   // The outputs named by the caller, against the scene file, before it is even loaded.
   check_outputs({{"-o", options.exr}, {"--png", options.png}}, {options.request.source.file});
   if (chunk) parse_chunk(options.chunk, options.split);
 
   observer.on_phase(RenderPhase::loading);
-  RenderResult result;
-  RenderJob job = prepare_render(options.request);
+  LoadedScene loaded;
+  RenderJob& job = loaded.job;
+  job = prepare_render(options.request);
+  const RenderSeams& seams = options.seams;
+  if (seams.modify_scene) seams.modify_scene(job.file.scene);
+  if (seams.isa) job.settings.isa = *seams.isa;
+  if (seams.adjust_settings) seams.adjust_settings(job.settings);
   observe(job.settings, options, observer);
-  result.load_seconds = seconds_since(t0);
-  observer.on_message(fmt::format("scene loaded in {:.2f} s", result.load_seconds));
+  observer.on_message(fmt::format("scene loaded in {:.2f} s", seconds_since(t0)));
   for (const std::string& w : job.file.warnings) observer.on_message(w);
 
-  OutputPaths& outputs = result.outputs;
+  OutputPaths& outputs = loaded.outputs;
   outputs.exr = !options.exr.empty() ? options.exr : job.file.output.exr;
   if (outputs.exr.empty() && (options.require_exr || chunk))
     throw Error("no output file: give -o OUT.exr (or [output] exr = ... in the scene)");
@@ -142,18 +167,47 @@ RenderResult render_scene(const RenderCallOptions& options, RenderObserver& obse
     outputs.png = !options.png.empty() ? options.png : job.file.output.png;
     if (outputs.exr.empty() && !outputs.png.empty())
       throw Error("a PNG preview needs an EXR beside it: give -o OUT.exr (or [output] exr = ... in the scene)");
-    if (!outputs.exr.empty()) {
-      outputs.checkpoint = checkpoint_path_for(outputs.exr);
-      outputs.sidecar = sidecar_path(outputs.exr);
-    }
+    if (!outputs.exr.empty() && !seams.film_source) outputs.checkpoint = checkpoint_path_for(outputs.exr);
+    if (!outputs.exr.empty()) outputs.sidecar = sidecar_path(outputs.exr);
   }
   check_render_outputs(job, outputs, options.preview, options.memory_check);
   if (options.resume && outputs.checkpoint.empty()) throw Error("--resume needs an output EXR (its checkpoint)");
+  const bool faults = seams.faults.mis_weight_one || seams.faults.no_shadow_alpha;
+  if (faults && !outputs.checkpoint.empty()) throw Error("transport faults are for renders kept in memory");
 
-  result = chunk ? render_chunk(std::move(job), options, observer, std::move(result))
-                 : render_image(job, options, observer, std::move(result));
-  result.total_seconds = seconds_since(t0);
+  loaded.embree = std::make_unique<const EmbreeScene>(
+      job.file.scene, seams.faults, seams.bvh.value_or(bvh_build_for(job.settings)), job.settings.isa);
+  observer.on_message(scene_stats_line(loaded.embree->stats()));
+  loaded.load_seconds = seconds_since(t0);
+  return loaded;
+}
+
+RenderResult render_loaded(const LoadedScene& loaded, const RenderCallOptions& options, RenderObserver& observer,
+                           const std::function<void(RenderSettings&)>& per_render) {
+  const auto t0 = Clock::now();
+  RenderSettings settings = loaded.job.settings;
+  if (per_render) per_render(settings);
+  RenderResult result;
+  result.outputs = loaded.outputs;
+  result.load_seconds = loaded.load_seconds;
+  if (!options.chunk.empty())
+    result = render_chunk(loaded, std::move(settings), options, observer, std::move(result));
+  else if (result.outputs.checkpoint.empty())
+    result = render_film(loaded, std::move(settings), options, observer, std::move(result));
+  else
+    result = render_image(loaded, settings, options, observer, std::move(result));
+  result.total_seconds = loaded.load_seconds + seconds_since(t0);
   return result;
+}
+
+RenderResult render_scene(const SceneSource& source, RenderCallOptions options, RenderObserver& observer) {
+  options.request.source = source;
+  return render_scene(options, observer);
+}
+
+RenderResult render_scene(const RenderCallOptions& options, RenderObserver& observer) {
+  const LoadedScene loaded = load_render(options, observer);
+  return render_loaded(loaded, options, observer);
 }
 
 FrameRange parse_frames(const std::string& text, double fps) {
@@ -228,9 +282,9 @@ MergeResult merge_parts(const std::vector<std::filesystem::path>& parts, bool al
   // The first-hit AOVs are traced again through pixel centres: the scene is loaded, not rendered.
   observer.on_phase(RenderPhase::writing);
   const Renderer renderer(job.file.scene, job.settings);
-  out.render.image = annotated_image(renderer, merged.film, job);
+  out.render.image = annotated_image(renderer, merged.film, job.file);
   out.render.film_samples = merged.film.total_samples();
-  write_render_outputs(renderer, out.render.image, job, outputs.exr, outputs.png, options.preview);
+  write_render_outputs(renderer, out.render.image, job.file, outputs.exr, outputs.png, options.preview);
   out.header = std::move(merged.header);
   out.missing = std::move(merged.missing);
   out.unused = std::move(merged.unused);

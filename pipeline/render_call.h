@@ -8,7 +8,9 @@
 // (render/session.h), and writes the EXR with its header, the PNG preview and the label sidecar,
 // each atomically; it returns the film's channels in memory. A chunk of a split render
 // (`options.chunk`) is written as a partial file instead (render/chunk.h). Every front end calls
-// it: `sylva render` in all its modes, `sylva merge` (merge_parts), sylva-mpi and the golden harness.
+// it: `sylva render` in all its modes, `sylva merge` (merge_parts), sylva-mpi (its film made over
+// the ranks: RenderSeams::film_source) and the golden harness (load_render once, render_loaded for
+// each of its images).
 //
 // The observer carries progress and messages out, and cancellation in: a front end never reaches
 // into the renderer, and signal handling stays at the program's edge (the CLI switches its
@@ -18,9 +20,13 @@
 #include "pipeline/outputs.h"
 #include "pipeline/scene_request.h"
 #include "render/chunk.h"
+#include "render/testing/faults.h"
 
 #include <atomic>
 #include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +62,18 @@ class RenderObserver {
   std::atomic<bool> cancel_{false};
 };
 
+// The seams of a render, for harnesses and tests; a plain render leaves them empty.
+struct RenderSeams {
+  std::function<void(Scene&)> modify_scene;              // after loading, before the BVH is built
+  std::function<void(RenderSettings&)> adjust_settings;  // after the request's overrides
+  TransportFaults faults;                                // render/testing/faults.h (in-memory renders)
+  std::optional<BvhBuild> bvh;                           // default: bvh_build_for(settings)
+  std::optional<EmbreeIsa> isa;                          // replaces the settings' (the golden suite's AVX2)
+  // Makes the whole film in place of this process's session, from the renderer of the loaded scene
+  // (sylva-mpi: chunks over its ranks, assembled in order). The outputs are written from it.
+  std::function<Film(Renderer&, RenderObserver&)> film_source;
+};
+
 struct RenderCallOptions {
   RenderRequest request;      // the scene source and the overrides of its settings
   std::filesystem::path exr;  // empty: the scene's [output] exr (and then nothing, if it has none)
@@ -68,6 +86,7 @@ struct RenderCallOptions {
   bool memory_check = true;       // refuse a render that needs more memory than is available
   std::string chunk;              // "i/N": render one chunk to the partial file `exr` (render/chunk.h)
   std::string split = "samples";  // how a chunk splits the work: samples or tiles
+  RenderSeams seams;
 };
 
 enum class RenderStatus {
@@ -86,6 +105,22 @@ struct RenderResult {
   double load_seconds = 0;       // scene loading, overrides applied
   double total_seconds = 0;      // the whole call
 };
+
+// A scene loaded as `options` ask (overrides, seams), its outputs resolved and checked, and its BVH
+// built: what render_scene renders. A caller that renders one scene several times (the golden
+// harness: a check and a determinism image) loads it once.
+struct LoadedScene {
+  RenderJob job;
+  OutputPaths outputs;
+  std::unique_ptr<const EmbreeScene> embree;
+  double load_seconds = 0;
+};
+LoadedScene load_render(const RenderCallOptions& options, RenderObserver& observer);
+
+// Renders a loaded scene as `options` ask (their outputs and mode; the scene part of the request
+// was applied by load_render). `per_render` may change this render's settings (spp, seed).
+RenderResult render_loaded(const LoadedScene& loaded, const RenderCallOptions& options, RenderObserver& observer,
+                           const std::function<void(RenderSettings&)>& per_render = {});
 
 // Renders `source` as `options` ask (options.request.source is replaced by `source`). Throws
 // ParseError / sylva::Error for bad input, before any work where it can be known then; an output

@@ -88,11 +88,11 @@ RenderJob prepare_render(const RenderRequest& request) {
   return job;
 }
 
-std::map<std::string, std::string> describe_job(const RenderRequest& request, const RenderJob& job) {
+std::map<std::string, std::string> describe_job(const RenderRequest& request, const RenderSettings& settings) {
   // A partial file names its scene so `sylva merge` can load it again; text has no name to give.
   if (request.source.file.empty() && !request.source.text.empty())
     throw Error("a chunk of a split render needs its scene in a file (sylva merge loads it again), not as text");
-  const RenderSettings& s = job.settings;
+  const RenderSettings& s = settings;
   std::string bands;
   for (const Band& b : s.bands) bands += (bands.empty() ? "" : ",") + b.name;
   std::map<std::string, std::string> fields{

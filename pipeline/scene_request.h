@@ -66,7 +66,7 @@ RenderJob prepare_render(const RenderRequest& request);
 
 // The fields of a partial file's job header that rebuild `request`'s render (scene as an absolute
 // path, resolved settings), and back.
-std::map<std::string, std::string> describe_job(const RenderRequest& request, const RenderJob& job);
+std::map<std::string, std::string> describe_job(const RenderRequest& request, const RenderSettings& settings);
 RenderRequest request_from_job(const std::map<std::string, std::string>& fields, int spp);
 
 }  // namespace sylva

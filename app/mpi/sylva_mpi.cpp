@@ -18,7 +18,7 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/output_paths.h"
-#include "pipeline/outputs.h"
+#include "pipeline/render_call.h"
 #include "render/chunk.h"
 #include "render/session.h"
 
@@ -69,16 +69,17 @@ class ChunkQueue {
 };
 
 struct Context {
-  RenderJob job;
+  RenderSettings settings;
   ChunkSplit split;
   int chunks;
   std::string key;
   std::map<std::string, std::string> job_fields;
+  std::string chunks_by_rank;  // rank 0's summary: " 3 5 …"
 };
 
 Film render_chunk(Renderer& renderer, const Context& ctx, int index) {
   const ChunkWork work =
-      chunk_work({index, ctx.chunks, ctx.split}, ctx.job.settings.width, ctx.job.settings.height, ctx.job.settings.spp);
+      chunk_work({index, ctx.chunks, ctx.split}, ctx.settings.width, ctx.settings.height, ctx.settings.spp);
   Film film = renderer.make_film(work.region, work.samples.first);
   renderer.render(film, work.region, work.samples);
   return film;
@@ -104,10 +105,10 @@ void worker(Renderer& renderer, const Context& ctx) {
   }
 }
 
-int coordinator(Renderer& renderer, const Context& ctx, const MpiOptions& opt, int ranks) {
-  const auto t0 = std::chrono::steady_clock::now();
+// Rank 0: hands out the chunks, renders some itself, and assembles the film in chunk order.
+Film coordinator(Renderer& renderer, Context& ctx, const MpiOptions& opt, int ranks) {
   ChunkQueue queue(ctx.chunks);
-  const RenderSettings& s = ctx.job.settings;
+  const RenderSettings& s = ctx.settings;
   ChunkAssembler assembler(s.width, s.height, static_cast<int>(2 * renderer.radiance_channels().size()), ctx.chunks);
   const std::filesystem::path spool = opt.exr + ".parts";
   std::filesystem::create_directories(spool);
@@ -157,32 +158,43 @@ int coordinator(Renderer& renderer, const Context& ctx, const MpiOptions& opt, i
   }
   local.join();
   if (local_error) std::rethrow_exception(local_error);
-  write_render_outputs(renderer, annotated_image(renderer, assembler.film(), ctx.job), ctx.job, opt.exr, opt.png, {});
-  std::filesystem::remove_all(spool);
-  if (!opt.quiet) {
-    std::string by_rank;
-    for (int r = 0; r < ranks; ++r) by_rank += fmt::format(" {}", chunks_by_rank[static_cast<size_t>(r)]);
-    fmt::print(stderr, "wrote {}: {} chunks by {} over {} ranks (chunks per rank:{}) in {:.2f} s\n", opt.exr,
-               ctx.chunks, to_string(ctx.split), ranks, by_rank,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  return 0;
+  for (int r = 0; r < ranks; ++r) ctx.chunks_by_rank += fmt::format(" {}", chunks_by_rank[static_cast<size_t>(r)]);
+  return assembler.film();
 }
 
 int run(const MpiOptions& opt, int rank, int ranks) {
-  Context ctx{prepare_render(opt.request), opt.split == "samples" ? ChunkSplit::samples : ChunkSplit::tiles, 0, {}, {}};
-  // Every rank checks the outputs against the scene's inputs, so all fail alike (docs/robustness.md).
-  check_outputs({{"-o", opt.exr}, {"--png", opt.png}}, ctx.job.file.inputs);
-  const RenderSettings& s = ctx.job.settings;
+  const auto t0 = std::chrono::steady_clock::now();
+  RenderCallOptions call;
+  call.request = opt.request;
+  call.exr = opt.exr;
+  call.png = opt.png;
+  call.memory_check = false;
+  // The film is made over the ranks (in place of a session: no checkpoint); rank 0 writes it.
+  Context ctx{{}, opt.split == "samples" ? ChunkSplit::samples : ChunkSplit::tiles, 0, {}, {}, {}};
+  call.seams.film_source = [&](Renderer& renderer, RenderObserver&) { return coordinator(renderer, ctx, opt, ranks); };
+  // Every rank loads the scene and checks the outputs against its inputs, so all fail alike
+  // (docs/robustness.md).
+  RenderObserver silent;
+  const LoadedScene loaded = load_render(call, silent);
+  ctx.settings = loaded.job.settings;
+  const RenderSettings& s = ctx.settings;
   // Default: 8 chunks per rank (enough to balance uneven ranks), capped by what the split allows.
   ctx.chunks = opt.chunks > 0 ? opt.chunks : std::min(8 * ranks, ctx.split == ChunkSplit::tiles ? s.height : s.spp);
   chunk_work({0, ctx.chunks, ctx.split}, s.width, s.height, s.spp);  // throws if a chunk would be empty
-  ctx.key = checkpoint_key(ctx.job.file.content_hash, s);
-  ctx.job_fields = describe_job(opt.request, ctx.job);
-  const EmbreeScene embree(ctx.job.file.scene, bvh_build_for(s), s.isa);
-  Renderer renderer(ctx.job.file.scene, embree, s);
-  if (rank == 0) return coordinator(renderer, ctx, opt, ranks);
-  worker(renderer, ctx);
+  ctx.key = checkpoint_key(loaded.job.file.content_hash, s);
+  ctx.job_fields = describe_job(opt.request, s);
+  if (rank != 0) {
+    Renderer renderer(loaded.job.file.scene, *loaded.embree, s);
+    worker(renderer, ctx);
+    return 0;
+  }
+  const std::filesystem::path spool = opt.exr + ".parts";
+  render_loaded(loaded, call, silent);
+  std::filesystem::remove_all(spool);
+  if (!opt.quiet)
+    fmt::print(stderr, "wrote {}: {} chunks by {} over {} ranks (chunks per rank:{}) in {:.2f} s\n", opt.exr,
+               ctx.chunks, to_string(ctx.split), ranks, ctx.chunks_by_rank,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return 0;
 }
 
@@ -219,6 +231,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"samples", "tiles"}));
   app.add_option("--chunks", opt.chunks, "Number of chunks handed out (default: 8 per rank)")
       ->check(CLI::Range(1, 1 << 20));
+  app.add_option("--set", req.overrides, "Override a key of the scene file: SECTION.KEY=VALUE (repeatable)")
+      ->allow_extra_args(false);
   app.add_flag("-q,--quiet", opt.quiet, "No summary");
   try {
     app.parse(argc, argv);

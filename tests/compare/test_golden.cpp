@@ -79,6 +79,17 @@ TEST(GoldenPower, LeafReflectancePlus3PercentFails) {
     expect_rejected(name, "leaf reflectance +3%", check_golden_case(find_case(name), {}, modify));
 }
 
+TEST(GoldenPower, SunTwoDegreesLowerThroughSetFails) {
+  // `sylva golden check --set`: an override of the case's file is told from the reference, and the
+  // determinism hash (of another scene) is not held against it.
+  const GoldenCheck r = check_golden_case(find_case("ground_sun"), {}, {}, {}, {"sun.elevation=33"});
+  expect_rejected("ground_sun", "--set sun.elevation=33 (35 in the file)", r);
+  EXPECT_FALSE(r.determinism_checked);
+  const GoldenCheck same = check_golden_case(find_case("ground_sun"), {}, {}, {}, {"sun.elevation=35"});
+  EXPECT_TRUE(same.compare.passed) << describe(same.compare);  // the same value: the same scene
+  EXPECT_TRUE(same.determinism_matches);
+}
+
 TEST(GoldenPower, SkyRadianceTimes1_02Fails) {
   expect_rejected("ground_sky", "sky radiance x1.02",
                   check_golden_case(find_case("ground_sky"), {}, [](Scene& s) { s.sky.spectrum *= 1.02f; }));

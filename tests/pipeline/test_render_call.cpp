@@ -6,6 +6,8 @@
 #include "pipeline/render_call.h"
 #include "tests/support/temp_dir.h"
 
+#include "tests/support/box_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,34 +19,7 @@
 namespace sylva {
 namespace {
 
-const std::string kScene = R"([render]
-width = 24
-height = 16
-spp = 4
-bands = ["rgb", "nir"]
-max_depth = 4
-
-[camera]
-position = [0.0, -6.0, 4.0]
-target = [0.0, 0.0, 0.0]
-
-[sun]
-azimuth = 210
-elevation = 35
-
-[materials.grey]
-reflectance = 0.4
-
-[[meshes]]
-shape = "plane"
-size = [40, 40]
-material = "grey"
-
-[[meshes]]
-shape = "box"
-size = [1.0, 1.0, 1.2]
-material = "grey"
-)";
+const std::string kScene = test::kBoxSceneToml;
 
 // Records what the call tells it; cancels once rendering starts when asked to.
 class RecordingObserver : public RenderObserver {

@@ -4,6 +4,8 @@
 #include "core/error.h"
 #include "scenes/scene_file.h"
 
+#include "tests/support/box_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
@@ -12,31 +14,7 @@
 namespace sylva {
 namespace {
 
-const std::string kScene = R"([render]
-width = 32
-height = 24
-
-[camera]
-position = [0.0, -6.0, 4.0]
-target = [0.0, 0.0, 0.0]
-
-[sun]
-azimuth = 210
-elevation = 35
-
-[materials.grey]
-reflectance = 0.4
-
-[[meshes]]
-shape = "plane"
-size = [40, 40]
-material = "grey"
-
-[[meshes]]
-shape = "box"
-size = [1.0, 1.0, 1.2]
-material = "grey"
-)";
+const std::string kScene = test::kBoxSceneToml;
 
 SceneFile parse_with(const std::vector<std::string>& overrides) {
   SceneOptions options;
@@ -60,7 +38,7 @@ TEST(SceneOverrides, ReplaceAKeyOfASection) {
   EXPECT_FLOAT_EQ(f.scene.sun.elevation_deg, 10.0f);
   EXPECT_FLOAT_EQ(f.scene.sun.azimuth_deg, 210.0f);  // the rest of [sun] is kept
   EXPECT_EQ(f.render.width, 48);
-  EXPECT_EQ(f.render.height, 24);
+  EXPECT_EQ(f.render.height, 16);
 }
 
 TEST(SceneOverrides, ArraysTablesAndBareWords) {
