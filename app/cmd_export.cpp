@@ -3,6 +3,7 @@
 // render/obj_export.h) and prints the camera and lights as options of Embree's `pathtracer`
 // tutorial, so the same view can be rendered there (bench/compare_embree.sh).
 
+#include "app/cli_observer.h"
 #include "app/commands.h"
 #include "core/error.h"
 #include "core/output_paths.h"
@@ -27,6 +28,7 @@ struct ExportOptions {
   std::string res;
   bool quiet = false;
   bool no_materials = false;
+  std::vector<std::string> overrides;  // --set
 };
 
 int run_export(const ExportOptions& opt) {
@@ -34,7 +36,8 @@ int run_export(const ExportOptions& opt) {
   check_outputs({{"--obj", opt.obj}}, {opt.scene});
   SceneOptions scene_options;
   if (!opt.res.empty()) scene_options.resolution = parse_resolution(opt.res);
-  const SceneFile file = opt.scene.empty() ? default_scene(scene_options) : load_scene_file(opt.scene, scene_options);
+  scene_options.overrides = opt.overrides;
+  const SceneFile file = load_scene(SceneSource::from_file(opt.scene), scene_options);
   const int width = file.render.width, height = file.render.height;
   const Scene& scene = file.scene;
   const ObjExportFiles files = obj_export_files(scene, opt.obj, !opt.no_materials);
@@ -87,6 +90,7 @@ CommandRun add_export_command(CLI::App& parent) {
   cmd->add_option("--res", opt->res, "Resolution WIDTHxHEIGHT for --size (default: the scene's)");
   cmd->add_flag("--no-materials", opt->no_materials,
                 "Geometry only: no material library, leaves as full opaque quads (no outline textures)");
+  add_set_option(cmd, opt->overrides);
   cmd->add_flag("-q,--quiet", opt->quiet, "No summary on stderr");
   return [opt] { return run_export(*opt); };
 }
