@@ -4,9 +4,9 @@
 // tutorial, so the same view can be rendered there (bench/compare_embree.sh).
 
 #include "app/commands.h"
-#include "app/render_job.h"
 #include "core/error.h"
 #include "core/output_paths.h"
+#include "pipeline/scene_request.h"
 #include "render/lights/lights.h"
 #include "render/obj_export.h"
 #include "scenes/scene_file.h"

@@ -2,7 +2,6 @@
 // export it, its growth rings and its state.
 
 #include "app/commands.h"
-#include "app/render_job.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "core/progress.h"
@@ -10,6 +9,7 @@
 #include "geometry/trees/hart_baker/rings.h"
 #include "geometry/trees/hart_baker/surface.h"
 #include "geometry/trees/tree_mesher.h"
+#include "pipeline/outputs.h"
 #include "render/renderer.h"
 #include "scenes/hart_baker_growth.h"
 #include "scenes/scene_file.h"

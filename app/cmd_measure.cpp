@@ -1,11 +1,12 @@
 // `sylva measure`: the plot sensor (docs/radiometry.md, "Plot sensor"): the BRF (or mean
 // radiance) of a scene's [plot] for its view directions, and the plot's flux budget, as CSV.
 
+#include "app/cli_observer.h"
 #include "app/commands.h"
-#include "app/render_job.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/output_paths.h"
+#include "pipeline/scene_request.h"
 #include "render/embree_scene.h"
 #include "render/sensors/plot_sensor.h"
 
@@ -45,7 +46,7 @@ CommandRun add_measure_command(CLI::App& parent) {
       "Plot sensor: the BRF (or mean radiance) of the scene's [plot] per view direction and its flux budget, as CSV "
       "with standard errors (docs/radiometry.md)");
   RenderRequest& req = opt->request;
-  cmd->add_option("scene", req.scene, "Scene file (TOML) with a [plot] section")->required();
+  cmd->add_option("scene", req.source.file, "Scene file (TOML) with a [plot] section")->required();
   cmd->add_option("--brf", opt->brf, "Output CSV: per view direction, each band channel's mean and standard error");
   cmd->add_option("--flux", opt->flux, "Output CSV: per band channel, the flux fractions and standard errors");
   cmd->add_option("--samples", opt->samples, "Rays per view direction (default: [plot] samples)")
@@ -60,6 +61,7 @@ CommandRun add_measure_command(CLI::App& parent) {
       ->check(CLI::IsMember({"radiance", "reflectance"}));
   cmd->add_option("--isa", req.isa, "Embree's kernels, at most (as sylva render --isa; default avx2)")
       ->check(CLI::IsMember(embree_isa_names()));
+  add_set_option(cmd, req.overrides);
   return [opt] {
     if (opt->brf.empty() && opt->flux.empty()) throw Error("measure: give --brf FILE, --flux FILE or both");
     RenderRequest request = opt->request;

@@ -3,17 +3,11 @@
 // AOVs are traced again through pixel centres, so the scene is loaded (and checked against the
 // parts' scene hash) but not rendered.
 
+#include "app/cli_observer.h"
 #include "app/commands.h"
-#include "app/render_job.h"
-#include "core/error.h"
-#include "core/output_paths.h"
-#include "render/chunk.h"
-#include "render/session.h"
-#include "scenes/sidecar.h"
+#include "pipeline/render_call.h"
 
 #include <fmt/core.h>
-
-#include <chrono>
 
 namespace sylva {
 
@@ -35,25 +29,13 @@ std::string list(const std::vector<int>& v) {
 }
 
 int run_merge(const MergeOptions& opt) {
-  const auto t0 = std::chrono::steady_clock::now();
+  CliObserver observer(opt.quiet);
+  RenderCallOptions call;
+  call.exr = opt.exr;
+  call.png = opt.png;
+  call.request.threads = opt.threads;
   std::vector<std::filesystem::path> files(opt.parts.begin(), opt.parts.end());
-  const std::vector<OutputFile> outputs{
-      {"-o", opt.exr},
-      {"--png", opt.png},
-      {"label sidecar", opt.exr.empty() ? std::filesystem::path() : sidecar_path(opt.exr)}};
-  check_outputs(outputs, files);
-  const MergedParts merged = merge_partials(files, opt.partial);
-  RenderRequest request = request_from_job(merged.header.job, merged.header.spp);
-  request.threads = opt.threads;
-  const RenderJob job = prepare_render(request);
-  std::vector<std::filesystem::path> inputs = files;
-  inputs.insert(inputs.end(), job.file.inputs.begin(), job.file.inputs.end());
-  check_outputs(outputs, inputs);
-  if (checkpoint_key(job.file.content_hash, job.settings) != merged.header.key)
-    throw Error(fmt::format("the scene {} is not the one the parts were rendered from (it changed since)",
-                            request.scene.empty() ? "<default scene>" : request.scene));
-  const Renderer renderer(job.file.scene, job.settings);
-  write_render_outputs(renderer, merged.film, job, opt.exr, opt.png, {});
+  const MergeResult merged = merge_parts(files, opt.partial, call, observer);
   const int n = merged.header.chunk.count;
   if (!merged.missing.empty())
     fmt::print(stderr, "partial merge: chunks {} of {} missing{}\n", list(merged.missing), n,
@@ -64,7 +46,7 @@ int run_merge(const MergeOptions& opt) {
     fmt::print(stderr, "merged {} of {} chunks (split by {}) into {}{} in {:.2f} s\n",
                n - static_cast<int>(merged.missing.size() + merged.unused.size()), n,
                to_string(merged.header.chunk.split), opt.exr, opt.png.empty() ? "" : " and " + opt.png,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+               merged.render.total_seconds);
   return 0;
 }
 

@@ -15,12 +15,20 @@ class Error : public std::runtime_error {
 
 class ParseError : public Error {
  public:
+  // A place with no line (a command-line override): "file: what".
+  static constexpr int kNoLine = -1;
   ParseError(const std::filesystem::path& file, int line, const std::string& what)
-      : Error(file.string() + ":" + std::to_string(line) + ": " + what), file_(file), line_(line) {}
+      : Error(message(file, line, what)), file_(file), line_(line) {}
   const std::filesystem::path& file() const { return file_; }
   int line() const { return line_; }
 
  private:
+  static std::string message(const std::filesystem::path& file, int line, const std::string& what) {
+    std::string m = file.string();
+    if (line != kNoLine) m.append(":").append(std::to_string(line));
+    m.append(": ").append(what);
+    return m;
+  }
   std::filesystem::path file_;
   int line_ = 0;
 };

@@ -80,10 +80,12 @@ int Params::line_of(std::string_view name) const {
 }
 
 void Params::fail(std::string_view name, const std::string& what) const {
-  throw ParseError(*file_, line_of(name), what);
+  if (const Entry* e = find(name)) fail_at(e->value, what);
+  throw ParseError(*file_, line_, what);
 }
 void Params::fail(const std::string& what) const { throw ParseError(*file_, line_, what); }
 void Params::fail_at(const ParamValue& value, const std::string& what) const {
+  if (value.origin) throw ParseError(*value.origin, ParseError::kNoLine, what);
   throw ParseError(*file_, value.line, what);
 }
 

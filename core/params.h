@@ -50,6 +50,9 @@ struct ParamValue {
   std::vector<ParamValue> array;
   std::shared_ptr<Params> table;
   int line = 0;  // 1-based source line, 0 when unknown
+  // Set for a value given on the command line (`--set section.key=value`): messages name it
+  // ("--set sun.elevation=abc: ...") instead of a file and line.
+  std::shared_ptr<const std::string> origin;
 
   bool is_number() const { return kind == Kind::Integer || kind == Kind::Real; }
   double number() const { return kind == Kind::Integer ? static_cast<double>(integer) : real; }

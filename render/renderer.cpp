@@ -226,7 +226,7 @@ RenderStats Renderer::render(Film& film, const PixelRegion& region, SampleRange 
     }
   if (region.empty()) return stats;
 
-  Progress progress("render", remaining, settings_.progress);
+  Progress progress("render", remaining, settings_.progress, "samples", settings_.on_progress);
   tbb::enumerable_thread_specific<uint64_t> rays(0), samples_added(0);
   std::atomic<bool> stopped{false};
   const int ts = settings_.tile_size;

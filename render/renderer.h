@@ -10,6 +10,7 @@
 
 #include "core/band.h"
 #include "core/image.h"
+#include "core/progress.h"
 #include "render/embree_scene.h"
 #include "render/film.h"
 #include "render/integrator.h"
@@ -47,7 +48,8 @@ struct RenderSettings {
   // Embree's kernels (EmbreeIsa): at most AVX2 unless asked, so the bits are the same on every
   // processor with AVX2.
   EmbreeIsa isa = EmbreeIsa::kAvx2;
-  bool progress = true;  // progress bar on stderr (only when stderr is a terminal)
+  bool progress = true;      // progress bar on stderr (only when stderr is a terminal)
+  ProgressSink on_progress;  // told the samples done and left (Progress), with or without a bar
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;
 };

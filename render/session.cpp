@@ -138,7 +138,8 @@ SessionResult RenderSession::run() {
   // Periodic checkpoints only make sense with somewhere to write them.
   const double period = options_.checkpoint.empty() ? 0.0 : options_.checkpoint_minutes;
   while (true) {
-    stop_ = false;
+    // An interrupt that came before the round stops it at once (the watcher polls only every 50 ms).
+    stop_ = options_.interrupt && options_.interrupt->load();
     RenderStats round;
     {
       const StopWatcher watcher(stop_, options_.interrupt, period);

@@ -1479,7 +1479,8 @@ FileResolver file_resolver(const std::filesystem::path& base_dir,
 SceneFile parse_scene(const std::string& text, const std::string& name, const std::filesystem::path& base_dir,
                       const SceneOptions& options) {
   TomlReader reader(name);
-  const toml::table document = reader.parse(text);
+  toml::table document = reader.parse(text);
+  apply_overrides(document, options.overrides);
   const auto found = std::make_shared<std::vector<std::filesystem::path>>();
   const Params root = reader.to_params(document, "the scene", file_resolver(base_dir, found));
   SceneParser parser(root, base_dir, options);
@@ -1502,6 +1503,7 @@ SceneFile parse_scene(const std::string& text, const std::string& name, const st
   }
   uint64_t hash = hash_ids(hash_text(text), dependencies);
   if (options.time_s) hash = hash_ids(hash, hash_text(fmt::format("time {:a}", *options.time_s)));
+  for (const std::string& o : options.overrides) hash = hash_ids(hash, hash_text("--set " + o));
   file.content_hash = hex64(hash);
   return file;
 }

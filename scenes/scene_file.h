@@ -86,6 +86,9 @@ struct SceneOptions {
   // The image size the scene will be rendered at (`--res`), replacing [render] width and height:
   // the level of detail of [vegetation] and [[placements]] trees is chosen for it (docs/lod.md).
   std::optional<std::pair<int, int>> resolution;
+  // `section.key=value` overrides of the file's TOML (`--set`, scenes/toml_reader.h), applied in
+  // order before any section reads it. Part of the content hash.
+  std::vector<std::string> overrides;
 };
 
 // A tree's dead branches (TreeStems::dead) get the [[trees]] entry's `dead_bark` material, else a

@@ -2,19 +2,31 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <optional>
 
 namespace sylva {
 
 namespace {
 int line_of(const toml::node& n) { return static_cast<int>(n.source().begin.line); }
 
+// The override a node came from ("--set PATH=VALUE"), or null for a node of the file.
+std::shared_ptr<const std::string> override_of(const toml::node& n) {
+  const toml::source_path_ptr& path = n.source().path;
+  if (path && path->starts_with(kOverridePrefix)) return path;
+  return nullptr;
+}
+
 ParamValue to_value(const toml::node& n, const std::string& file, const std::string& where,
                     const FileResolver& resolver);
 
 std::shared_ptr<Params> to_table(const toml::table& t, const std::string& file, const std::string& where,
                                  const FileResolver& resolver) {
-  auto params = std::make_shared<Params>(file, line_of(t), where, resolver);
+  const std::shared_ptr<const std::string> origin = override_of(t);
+  auto params = origin ? std::make_shared<Params>(*origin, ParseError::kNoLine, where, resolver)
+                       : std::make_shared<Params>(file, line_of(t), where, resolver);
   for (const auto& [key, node] : t) {
     // A nested table is named [key] in messages, a table in an array [[key]].
     const std::string k(key.str());
@@ -28,6 +40,7 @@ ParamValue to_value(const toml::node& n, const std::string& file, const std::str
                     const FileResolver& resolver) {
   ParamValue v;
   v.line = line_of(n);
+  v.origin = override_of(n);
   if (const auto* b = n.as_boolean()) {
     v.kind = ParamValue::Kind::Bool;
     v.boolean = b->get();
@@ -52,7 +65,105 @@ ParamValue to_value(const toml::node& n, const std::string& file, const std::str
   return v;
 }
 
+// A bare TOML key (letters, digits, '_' and '-'), as an override's path must use.
+bool is_bare_key(std::string_view key) {
+  return !key.empty() && std::all_of(key.begin(), key.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  return s;
+}
+
+// Merges `from` into `into`: a table (not an inline one, which is a value) merges into a table of
+// the same name; anything else replaces the key's value.
+void merge_tables(toml::table& into, toml::table&& from) {
+  for (auto&& [key, node] : from) {
+    toml::table* sub = node.as_table();
+    toml::table* existing = into[key].as_table();
+    if (sub != nullptr && !sub->is_inline() && existing != nullptr && !existing->is_inline())
+      merge_tables(*existing, std::move(*sub));
+    else
+      into.insert_or_assign(key, std::move(node));
+  }
+}
+
+// "a.b = VALUE" parsed as its own document, with `origin` as every node's source.
+toml::table parse_override(std::string_view keys, std::string_view value, const std::string& origin) {
+  try {
+    return toml::parse(fmt::format("{} = {}", keys, value), origin);
+  } catch (const toml::parse_error& e) {
+    // A bare word (ACES, cie-clear) is a string; anything else that does not parse is a mistake.
+    const bool bare_word = !value.empty() && value.find_first_of("[]{}\"'\n=#") == std::string_view::npos;
+    if (!bare_word)
+      throw ParseError(origin, ParseError::kNoLine,
+                       fmt::format("'{}' is not a TOML value ({})", value, e.description()));
+    return toml::parse(fmt::format("{} = \"{}\"", keys, value), origin);
+  }
+}
+
+void apply_override(toml::table& document, const std::string& text) {
+  const std::string origin = std::string(kOverridePrefix) + text;
+  const auto fail = [&](const std::string& what) { throw ParseError(origin, ParseError::kNoLine, what); };
+  if (text.find_first_of("\r\n") != std::string::npos) fail("an override is one line");
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos) fail("expected SECTION.KEY=VALUE, e.g. sun.elevation=10");
+  const std::string_view path = trim(std::string_view(text).substr(0, eq));
+  const std::string_view value = trim(std::string_view(text).substr(eq + 1));
+  // Indexed components ("trees[1]") are followed in the document; the keys after the last one are
+  // parsed with the value as a document of their own and merged into the table reached.
+  toml::table* table = &document;
+  std::string keys;
+  size_t start = 0;
+  while (start <= path.size()) {
+    const size_t dot = path.find('.', start);
+    std::string_view part = path.substr(start, dot == std::string_view::npos ? std::string_view::npos : dot - start);
+    start = dot == std::string_view::npos ? path.size() + 1 : dot + 1;
+    std::optional<size_t> index;
+    if (const size_t open = part.find('['); open != std::string_view::npos) {
+      size_t i = 0;
+      const std::string_view digits = part.substr(open + 1, part.size() - open - 2);
+      const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), i);
+      if (part.back() != ']' || digits.empty() || ec != std::errc() || ptr != digits.data() + digits.size())
+        fail(fmt::format("'{}' is not KEY or KEY[INDEX]", part));
+      index = i;
+      part = part.substr(0, open);
+    }
+    if (!is_bare_key(part)) fail(fmt::format("'{}' is not a key (letters, digits, '_' and '-', joined by dots)", path));
+    if (!index) {
+      keys += (keys.empty() ? "" : ".") + std::string(part);
+      continue;
+    }
+    // The tables named before the list, which must exist (a list is not created by an override).
+    for (size_t k = 0; !keys.empty() && k != std::string::npos;) {
+      const size_t next = keys.find('.', k);
+      const std::string key = keys.substr(k, next == std::string::npos ? std::string::npos : next - k);
+      table = (*table)[key].as_table();
+      if (table == nullptr) fail(fmt::format("there is no table '{}' holding [[{}]]", key, part));
+      k = next == std::string::npos ? next : next + 1;
+    }
+    keys.clear();
+    if (start > path.size())
+      fail(fmt::format("give a key of {}[{}], e.g. {}[{}].name=...", part, *index, part, *index));
+    toml::array* list = (*table)[part].as_array();
+    if (list == nullptr || !list->is_array_of_tables())
+      fail(fmt::format("there is no list of tables [[{}]] to index", part));
+    if (*index >= list->size())
+      fail(fmt::format("[[{}]] has {} entr{} (indices from 0)", part, list->size(), list->size() == 1 ? "y" : "ies"));
+    table = list->get(*index)->as_table();
+  }
+  if (keys.empty()) fail("expected SECTION.KEY=VALUE, e.g. sun.elevation=10");
+  merge_tables(*table, parse_override(keys, value, origin));
+}
+
 }  // namespace
+
+void apply_overrides(toml::table& document, const std::vector<std::string>& overrides) {
+  for (const std::string& text : overrides) apply_override(document, text);
+}
 
 Params TomlReader::to_params(const toml::table& t, const std::string& where, const FileResolver& resolver) const {
   return *to_table(t, file_, where, resolver);

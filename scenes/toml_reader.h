@@ -16,6 +16,17 @@
 
 namespace sylva {
 
+// Command-line overrides of a parsed document (`--set PATH=VALUE`, repeatable), applied before any
+// section reads it, so every key a file can set can be overridden. PATH is dotted keys, each
+// optionally indexed into a list of tables from 0 (`trees[1].seed`); VALUE is a TOML value
+// (`10`, `[0,-30,2]`, `"ACES"`), and a bare word that is not one is taken as a string
+// (`output.view=ACES`). A value replaces the key's; tables are merged. Values and tables that come
+// from an override keep it as their source, so a mistake in one is reported naming it, as a
+// mistake in the file is at its line ("--set sun.elevaton=10: unknown key 'elevaton' in [sun] ...").
+// A malformed override throws ParseError naming it.
+inline constexpr std::string_view kOverridePrefix = "--set ";
+void apply_overrides(toml::table& document, const std::vector<std::string>& overrides);
+
 class TomlReader {
  public:
   explicit TomlReader(std::string file) : file_(std::move(file)) {}

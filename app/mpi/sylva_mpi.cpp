@@ -15,10 +15,10 @@
 // success): if a rank dies, mpirun ends the job with a message naming it, and the chunks already
 // finished can be merged or completed with `sylva render --chunk i/N` + `sylva merge`.
 
-#include "app/render_job.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/output_paths.h"
+#include "pipeline/outputs.h"
 #include "render/chunk.h"
 #include "render/session.h"
 
@@ -157,7 +157,7 @@ int coordinator(Renderer& renderer, const Context& ctx, const MpiOptions& opt, i
   }
   local.join();
   if (local_error) std::rethrow_exception(local_error);
-  write_render_outputs(renderer, assembler.film(), ctx.job, opt.exr, opt.png, {});
+  write_render_outputs(renderer, annotated_image(renderer, assembler.film(), ctx.job), ctx.job, opt.exr, opt.png, {});
   std::filesystem::remove_all(spool);
   if (!opt.quiet) {
     std::string by_rank;
@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
   sylva::RenderRequest& req = opt.request;
   CLI::App app{"sylva-mpi: one render split across MPI ranks (mpirun -n N sylva-mpi SCENE -o OUT.exr)"};
   app.set_version_flag("--version", SYLVA_VERSION);
-  app.add_option("scene", req.scene, "Scene file (TOML); omit for the built-in default scene");
+  app.add_option("scene", req.source.file, "Scene file (TOML); omit for the built-in default scene");
   app.add_option("-o,--output", opt.exr, "Output EXR (written by rank 0)")->required();
   app.add_option("--png", opt.png, "PNG preview of the visible band");
   app.add_option("--spp", req.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));

@@ -1,9 +1,6 @@
-#include "app/render_job.h"
-
-#include "scenes/sidecar.h"
+#include "pipeline/scene_request.h"
 
 #include "core/error.h"
-#include "core/image.h"
 
 #include <fmt/core.h>
 
@@ -31,22 +28,6 @@ std::vector<std::string> split_list(const std::string& s) {
   return out;
 }
 
-// Exposure for the preview: the median luminance of the visible band maps to 18% grey.
-float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& channels) {
-  const int r = image.find_channel(channels[0]), g = image.find_channel(channels[1]),
-            b = image.find_channel(channels[2]);
-  std::vector<float> lum;
-  lum.reserve(static_cast<size_t>(image.width) * image.height);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const float l = 0.2126f * image.at(x, y, r) + 0.7152f * image.at(x, y, g) + 0.0722f * image.at(x, y, b);
-      if (l > 0 && std::isfinite(l)) lum.push_back(l);
-    }
-  if (lum.empty()) return 0.0f;
-  std::nth_element(lum.begin(), lum.begin() + lum.size() / 2, lum.end());
-  return std::log2(0.18f / lum[lum.size() / 2]);
-}
-
 const std::string& field(const std::map<std::string, std::string>& fields, const std::string& name) {
   const auto it = fields.find(name);
   if (it == fields.end()) throw Error("partial render header lacks job." + name);
@@ -61,6 +42,17 @@ int64_t to_int(const std::string& name, const std::string& value) {
 }
 
 }  // namespace
+
+std::string SceneSource::label() const {
+  if (!file.empty()) return file;
+  return text.empty() ? "<default scene>" : name;
+}
+
+SceneFile load_scene(const SceneSource& source, const SceneOptions& options) {
+  if (!source.file.empty()) return load_scene_file(source.file, options);
+  if (!source.text.empty()) return parse_scene(source.text, source.name, ".", options);
+  return default_scene(options);
+}
 
 std::pair<int, int> parse_resolution(const std::string& text) {
   const size_t x = text.find('x');
@@ -79,9 +71,9 @@ std::pair<int, int> parse_resolution(const std::string& text) {
 RenderJob prepare_render(const RenderRequest& request) {
   SceneOptions scene_options;
   scene_options.time_s = request.time_s;
+  scene_options.overrides = request.overrides;
   if (!request.res.empty()) scene_options.resolution = parse_resolution(request.res);
-  RenderJob job{request.scene.empty() ? default_scene(scene_options) : load_scene_file(request.scene, scene_options),
-                {}};
+  RenderJob job{load_scene(request.source, scene_options), {}};
   // The scene file's settings, with the command line's overrides on top.
   RenderSettings& settings = job.settings;
   settings = render_settings(job.file);
@@ -97,11 +89,15 @@ RenderJob prepare_render(const RenderRequest& request) {
 }
 
 std::map<std::string, std::string> describe_job(const RenderRequest& request, const RenderJob& job) {
+  // A partial file names its scene so `sylva merge` can load it again; text has no name to give.
+  if (request.source.file.empty() && !request.source.text.empty())
+    throw Error("a chunk of a split render needs its scene in a file (sylva merge loads it again), not as text");
   const RenderSettings& s = job.settings;
   std::string bands;
   for (const Band& b : s.bands) bands += (bands.empty() ? "" : ",") + b.name;
   std::map<std::string, std::string> fields{
-      {"scene", request.scene.empty() ? "" : std::filesystem::absolute(request.scene).lexically_normal().string()},
+      {"scene",
+       request.source.file.empty() ? "" : std::filesystem::absolute(request.source.file).lexically_normal().string()},
       {"res", fmt::format("{}x{}", s.width, s.height)},
       {"seed", std::to_string(s.seed)},
       {"max_depth", std::to_string(s.integrator.max_depth)},
@@ -110,12 +106,13 @@ std::map<std::string, std::string> describe_job(const RenderRequest& request, co
       {"isa", embree_isa_name(s.isa)}};
   // Hexadecimal: the exact double, so the merge rebuilds the same scene.
   if (request.time_s) fields["time"] = fmt::format("{:a}", *request.time_s);
+  for (size_t i = 0; i < request.overrides.size(); ++i) fields[fmt::format("set_{}", i)] = request.overrides[i];
   return fields;
 }
 
 RenderRequest request_from_job(const std::map<std::string, std::string>& fields, int spp) {
   RenderRequest r;
-  r.scene = field(fields, "scene");
+  r.source.file = field(fields, "scene");
   r.res = field(fields, "res");
   r.spp = spp;
   r.seed = to_int("seed", field(fields, "seed"));
@@ -123,36 +120,17 @@ RenderRequest request_from_job(const std::map<std::string, std::string>& fields,
   r.bands = field(fields, "bands");
   if (const auto it = fields.find("quantity"); it != fields.end()) r.quantity = it->second;
   if (const auto it = fields.find("isa"); it != fields.end()) r.isa = it->second;
+  for (size_t i = 0;; ++i) {
+    const auto it = fields.find(fmt::format("set_{}", i));
+    if (it == fields.end()) break;
+    r.overrides.push_back(it->second);
+  }
   if (const auto it = fields.find("time"); it != fields.end()) {
     char* end = nullptr;
     r.time_s = std::strtod(it->second.c_str(), &end);
     if (it->second.empty() || *end != '\0') throw Error("partial render header: job.time is not a number");
   }
   return r;
-}
-
-void write_render_outputs(const Renderer& renderer, const Film& film, const RenderJob& job,
-                          const std::filesystem::path& exr, const std::filesystem::path& png,
-                          const PreviewOverrides& overrides) {
-  Image image = renderer.make_image(film);
-  annotate_render(image, job.file, job.settings);
-  write_exr(exr, image);
-  write_sidecar(sidecar_path(exr), job.file, job.settings, image, exr);
-  if (png.empty()) return;
-  write_render_preview(renderer, image, job.file.output, png, overrides);
-}
-
-void write_render_preview(const Renderer& renderer, const Image& image, const OutputSection& output,
-                          const std::filesystem::path& png, const PreviewOverrides& overrides) {
-  PreviewOptions preview;
-  if (image.find_channel("R") < 0) {
-    const std::string grey = renderer.radiance_channels().front();
-    preview.channels = {grey, grey, grey};
-  }
-  preview.view = overrides.view.empty() ? output.view : overrides.view;
-  preview.exposure_ev = overrides.exposure_ev.value_or(output.exposure_ev) +
-                        (output.auto_exposure ? auto_exposure_ev(image, preview.channels) : 0.0f);
-  write_png_preview(png, image, preview);
 }
 
 }  // namespace sylva

@@ -1,0 +1,241 @@
+#include "pipeline/render_call.h"
+
+#include "core/error.h"
+#include "core/output_paths.h"
+#include "render/session.h"
+#include "scenes/sidecar.h"
+
+#include <fmt/core.h>
+
+#include <chrono>
+#include <cstdio>
+#include <utility>
+
+namespace sylva {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string scene_stats_line(const EmbreeStats& es) {
+  return fmt::format(
+      "scene: {} instances, {} unique triangles + {} leaf quads + {} curves ({} + {} + {} instanced); BVH "
+      "{:.1f} MiB in {:.0f} ms (and {:.1f} MiB of vertices shared with the scene), Embree's {} kernels",
+      es.instances, es.triangles, es.leaf_quads, es.curves, es.instanced_triangles, es.instanced_leaf_quads,
+      es.instanced_curves, es.bvh_bytes / 1048576.0, es.build_ms, es.shared_vertex_bytes / 1048576.0,
+      embree_isa_name(es.isa));
+}
+
+// The settings the render runs with: the observer's progress and (for chunks) its cancel flag.
+void observe(RenderSettings& settings, const RenderCallOptions& options, RenderObserver& observer) {
+  settings.progress = options.progress_bar;
+  settings.on_progress = [&observer](const ProgressReport& report) { observer.on_progress(report); };
+}
+
+// One image: a session that checkpoints and resumes.
+RenderResult render_image(const RenderJob& job, const RenderCallOptions& options, RenderObserver& observer,
+                          RenderResult result) {
+  const OutputPaths& outputs = result.outputs;
+  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings), job.settings.isa);
+  observer.on_message(scene_stats_line(embree.stats()));
+  SessionOptions session_options;
+  session_options.checkpoint = outputs.checkpoint;
+  session_options.key = checkpoint_key(job.file.content_hash, job.settings);
+  session_options.resume = options.resume;
+  session_options.checkpoint_minutes = options.checkpoint_minutes;
+  session_options.interrupt = &observer.cancel_flag();
+  session_options.warn = [&observer](const std::string& message) { observer.on_warning(message); };
+  RenderSession session(job.file.scene, embree, job.settings, session_options);
+  result.resumed_samples = session.resumed_samples();
+  if (options.resume)
+    observer.on_message(
+        fmt::format("resuming from {} ({} samples)", outputs.checkpoint.string(), result.resumed_samples));
+
+  observer.on_phase(RenderPhase::rendering);
+  SessionResult rendered = session.run();
+  result.stats = rendered.stats;
+  result.film_samples = rendered.film.total_samples();
+  if (rendered.interrupted) {
+    result.status = RenderStatus::interrupted;
+    return result;
+  }
+  // The finished film is saved first, so an output that cannot be written (or a cancel during the
+  // write) loses no samples: resuming then only writes the outputs.
+  session.save_checkpoint(rendered.film);
+  observer.on_phase(RenderPhase::writing);
+  result.image = annotated_image(session.renderer(), rendered.film, job);
+  try {
+    if (!outputs.exr.empty())
+      write_render_outputs(session.renderer(), result.image, job, outputs.exr, outputs.png, options.preview);
+  } catch (const Error& e) {
+    throw Error(
+        fmt::format("{}\nthe rendered samples are kept in {}: fix the output and run the same command with "
+                    "--resume to write it",
+                    e.what(), outputs.checkpoint.string()));
+  }
+  if (observer.cancel_flag()) {
+    result.status = RenderStatus::interrupted_writing;
+    return result;
+  }
+  session.remove_checkpoint();
+  return result;
+}
+
+// One chunk of a split render: its pixels and samples, saved as a partial file.
+RenderResult render_chunk(RenderJob job, const RenderCallOptions& options, RenderObserver& observer,
+                          RenderResult result) {
+  const ChunkSpec spec = parse_chunk(options.chunk, options.split);
+  const ChunkWork work = chunk_work(spec, job.settings.width, job.settings.height, job.settings.spp);
+  PartialHeader header;
+  header.key = checkpoint_key(job.file.content_hash, job.settings);
+  header.chunk = spec;
+  header.spp = job.settings.spp;
+  header.job = describe_job(options.request, job);  // before rendering: it may refuse the request
+  job.settings.cancel = &observer.cancel_flag();
+  const EmbreeScene embree(job.file.scene, bvh_build_for(job.settings), job.settings.isa);
+  observer.on_message(scene_stats_line(embree.stats()));
+  observer.on_phase(RenderPhase::rendering);
+  Renderer renderer(job.file.scene, embree, job.settings);
+  Film film = renderer.make_film(work.region, work.samples.first);
+  result.stats = renderer.render(film, work.region, work.samples);
+  result.film_samples = film.total_samples();
+  if (result.stats.interrupted) {
+    result.status = RenderStatus::interrupted;
+    return result;
+  }
+  observer.on_phase(RenderPhase::writing);
+  save_partial(result.outputs.exr, header, film);
+  return result;
+}
+
+}  // namespace
+
+RenderResult render_scene(const SceneSource& source, RenderCallOptions options, RenderObserver& observer) {
+  options.request.source = source;
+  return render_scene(options, observer);
+}
+
+RenderResult render_scene(const RenderCallOptions& options, RenderObserver& observer) {
+  const auto t0 = Clock::now();
+  const bool chunk = !options.chunk.empty();
+  if (chunk && !options.png.empty()) throw Error("--chunk writes a partial file; give --png to sylva merge");
+  if (chunk && options.resume) throw Error("--chunk renders cannot be resumed; render the chunk again");
+  // The outputs named by the caller, against the scene file, before it is even loaded.
+  check_outputs({{"-o", options.exr}, {"--png", options.png}}, {options.request.source.file});
+  if (chunk) parse_chunk(options.chunk, options.split);
+
+  observer.on_phase(RenderPhase::loading);
+  RenderResult result;
+  RenderJob job = prepare_render(options.request);
+  observe(job.settings, options, observer);
+  result.load_seconds = seconds_since(t0);
+  observer.on_message(fmt::format("scene loaded in {:.2f} s", result.load_seconds));
+  for (const std::string& w : job.file.warnings) observer.on_message(w);
+
+  OutputPaths& outputs = result.outputs;
+  outputs.exr = !options.exr.empty() ? options.exr : job.file.output.exr;
+  if (outputs.exr.empty() && (options.require_exr || chunk))
+    throw Error("no output file: give -o OUT.exr (or [output] exr = ... in the scene)");
+  if (!chunk) {
+    outputs.png = !options.png.empty() ? options.png : job.file.output.png;
+    if (outputs.exr.empty() && !outputs.png.empty())
+      throw Error("a PNG preview needs an EXR beside it: give -o OUT.exr (or [output] exr = ... in the scene)");
+    if (!outputs.exr.empty()) {
+      outputs.checkpoint = checkpoint_path_for(outputs.exr);
+      outputs.sidecar = sidecar_path(outputs.exr);
+    }
+  }
+  check_render_outputs(job, outputs, options.preview, options.memory_check);
+  if (options.resume && outputs.checkpoint.empty()) throw Error("--resume needs an output EXR (its checkpoint)");
+
+  result = chunk ? render_chunk(std::move(job), options, observer, std::move(result))
+                 : render_image(job, options, observer, std::move(result));
+  result.total_seconds = seconds_since(t0);
+  return result;
+}
+
+FrameRange parse_frames(const std::string& text, double fps) {
+  FrameRange r;
+  r.fps = fps;
+  char extra = 0;
+  if (std::sscanf(text.c_str(), "%d:%d%c", &r.first, &r.last, &extra) != 2 || r.first < 0 || r.last < r.first ||
+      r.last > 9999999)
+    throw Error("--frames: expected FIRST:LAST with 0 <= FIRST <= LAST, e.g. 0:239, not '" + text + "'");
+  return r;
+}
+
+std::filesystem::path frame_path(const std::filesystem::path& p, int frame) {
+  if (p.empty()) return p;
+  std::filesystem::path out = p;
+  out.replace_filename(fmt::format("{}.{:04d}{}", p.stem().string(), frame, p.extension().string()));
+  return out;
+}
+
+FramesResult render_frames(const RenderCallOptions& options, const FrameRange& frames, RenderObserver& observer) {
+  if (!options.chunk.empty()) throw Error("--frames and --chunk cannot be combined");
+  // The output names: the caller's, else the scene's [output] (the scene is assembled again for
+  // every frame, at its own wind time).
+  std::filesystem::path exr = options.exr, png = options.png;
+  if (exr.empty() || png.empty()) {
+    const RenderJob job = prepare_render(options.request);
+    if (exr.empty()) exr = job.file.output.exr;
+    if (png.empty() && options.png.empty()) png = job.file.output.png;
+  }
+  if (exr.empty()) throw Error("no output file: give -o OUT.exr (or [output] exr = ... in the scene)");
+  FramesResult out;
+  for (int frame = frames.first; frame <= frames.last; ++frame) {
+    RenderCallOptions o = options;
+    o.exr = frame_path(exr, frame);
+    o.png = frame_path(png, frame);
+    if (std::filesystem::exists(o.exr) && (o.png.empty() || std::filesystem::exists(o.png))) {
+      ++out.skipped;
+      continue;
+    }
+    o.request.time_s = frame / frames.fps;
+    o.resume = options.resume && std::filesystem::exists(checkpoint_path_for(o.exr));
+    observer.on_message(fmt::format("frame {} (t = {:.4f} s)", frame, *o.request.time_s));
+    out.last = render_scene(o, observer);
+    if (out.last.status != RenderStatus::finished) return out;
+    ++out.rendered;
+  }
+  return out;
+}
+
+MergeResult merge_parts(const std::vector<std::filesystem::path>& parts, bool allow_missing,
+                        const RenderCallOptions& options, RenderObserver& observer) {
+  const auto t0 = Clock::now();
+  MergeResult out;
+  OutputPaths& outputs = out.render.outputs;
+  outputs.exr = options.exr;
+  outputs.png = options.png;
+  outputs.sidecar = options.exr.empty() ? std::filesystem::path() : sidecar_path(options.exr);
+  const std::vector<OutputFile> checked{
+      {"-o", outputs.exr}, {"--png", outputs.png}, {"label sidecar", outputs.sidecar}};
+  check_outputs(checked, parts);
+  observer.on_phase(RenderPhase::loading);
+  MergedParts merged = merge_partials(parts, allow_missing);
+  RenderRequest request = request_from_job(merged.header.job, merged.header.spp);
+  request.threads = options.request.threads;
+  const RenderJob job = prepare_render(request);
+  std::vector<std::filesystem::path> inputs = parts;
+  inputs.insert(inputs.end(), job.file.inputs.begin(), job.file.inputs.end());
+  check_outputs(checked, inputs);
+  if (checkpoint_key(job.file.content_hash, job.settings) != merged.header.key)
+    throw Error(fmt::format("the scene {} is not the one the parts were rendered from (it changed since)",
+                            request.source.label()));
+  // The first-hit AOVs are traced again through pixel centres: the scene is loaded, not rendered.
+  observer.on_phase(RenderPhase::writing);
+  const Renderer renderer(job.file.scene, job.settings);
+  out.render.image = annotated_image(renderer, merged.film, job);
+  out.render.film_samples = merged.film.total_samples();
+  write_render_outputs(renderer, out.render.image, job, outputs.exr, outputs.png, options.preview);
+  out.header = std::move(merged.header);
+  out.missing = std::move(merged.missing);
+  out.unused = std::move(merged.unused);
+  out.render.total_seconds = seconds_since(t0);
+  return out;
+}
+
+}  // namespace sylva
