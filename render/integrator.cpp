@@ -202,6 +202,32 @@ HitContext Integrator::interaction(const Ray& ray, const RayHit& hit) const {
   return si;
 }
 
+SurfaceVertex Integrator::surface_vertex(const Ray& ray, const RayHit& hit, const SampledWavelengths& wl) const {
+  SurfaceVertex v;
+  v.ctx = interaction(ray, hit);
+  v.wo = -ray.direction;
+  v.ctx.front = glm::dot(v.wo, v.ctx.ng) > 0;
+  v.ctx.wl = &wl;
+  v.ng = v.ctx.front ? v.ctx.ng : -v.ctx.ng;
+  v.frame = v.ctx.shading_frame();
+  v.wo_local = v.frame.to_local(v.wo);
+  v.bsdf = lobes_.bsdf(v.ctx);
+  return v;
+}
+
+bool Integrator::scatter(const SurfaceVertex& v, Vec2 u, float u_lobe, SampledSpectrum& beta, float& pdf,
+                         Ray& next) const {
+  BsdfSample bs;
+  if (!v.bsdf.sample(v.wo_local, u, u_lobe, &bs)) return false;
+  const Vec3 wi = v.frame.to_world(bs.wi);
+  const float cos_g = glm::dot(wi, v.ng);
+  if (cos_g == 0 || (cos_g < 0) != bs.transmitted) return false;  // shading/geometry disagreement
+  beta *= bs.value;
+  pdf = bs.pdf;
+  next = Ray{offset_ray_origin(v.ctx.p, bs.transmitted ? -v.ng : v.ng), wi};
+  return true;
+}
+
 SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first,
                                      uint64_t& rays) const {
   PathState path(ray, wl, rng, first);
@@ -365,19 +391,17 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
     }
     return end_path();
   }
-  HitContext si = interaction(ray, hit);
-  const Vec3 wo = -ray.direction;
-  si.front = glm::dot(wo, si.ng) > 0;
-  si.wl = &wl;
-  const Vec3 ng = si.front ? si.ng : -si.ng;  // geometric normal on the viewer's side
-  const Frame frame = si.shading_frame();
-  const Bsdf bsdf = lobes_.bsdf(si);
+  const SurfaceVertex v = surface_vertex(ray, hit, wl);
+  const HitContext& si = v.ctx;
+  const Vec3& ng = v.ng;
+  const Frame& frame = v.frame;
+  const Bsdf& bsdf = v.bsdf;
   // Emission: emitters are not sampled as lights, so a camera or BSDF-sampled ray that meets one
   // takes its whole radiance (the power heuristic's weight when the light-sampling pdf is 0).
   if (lobes_.emits(si.material)) L += beta * lobes_.emitted(si);
   if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
   if (depth + 1 > settings_.max_depth) return end_path();
-  const Vec3 wo_local = frame.to_local(wo);
+  const Vec3& wo_local = v.wo_local;
 
   // Next-event estimation towards the sun + sky mixture.
   if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
@@ -407,14 +431,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   // Continue the path by sampling the BSDF.
   const Vec2 u_bsdf = uniform2(rng);
   const float u_lobe = rng.uniform();
-  BsdfSample bs;
-  if (!bsdf.sample(wo_local, u_bsdf, u_lobe, &bs)) return end_path();
-  const Vec3 wi = frame.to_world(bs.wi);
-  const float cos_g = glm::dot(wi, ng);
-  if (cos_g == 0 || (cos_g < 0) != bs.transmitted) return end_path();  // shading/geometry disagreement
-  beta *= bs.value;
-  prev_pdf = bs.pdf;
-  ray = Ray{offset_ray_origin(si.p, bs.transmitted ? -ng : ng), wi};
+  if (!scatter(v, u_bsdf, u_lobe, beta, prev_pdf, ray)) return end_path();
   path.from = si.instance;
 
   return roulette_then_next_bounce();

@@ -31,6 +31,18 @@ struct IntegratorSettings {
   int rr_start_depth = 3;  // Russian roulette from this bounce on
 };
 
+// A path's vertex on a surface, as every walk sees it (camera paths, the plot sensor's flux walk):
+// the hit's context with its face and wavelengths set, the directions and normal turned to the
+// side wo leaves from, and the BSDF there (Integrator::surface_vertex).
+struct SurfaceVertex {
+  HitContext ctx;
+  Vec3 wo{0.0f};        // world, unit, towards the previous vertex
+  Vec3 ng{0.0f};        // geometric normal on wo's side
+  Frame frame;          // local shading frame: z = shading normal on wo's side
+  Vec3 wo_local{0.0f};  // wo in `frame`
+  Bsdf bsdf;
+};
+
 // First-hit data for the AOVs.
 struct FirstHit {
   bool hit = false;
@@ -131,6 +143,15 @@ class Integrator {
   // The hit's context (world space), from the prototype's mesh data: everything but the face and
   // the wavelengths, which the caller sets before a material is evaluated.
   HitContext interaction(const Ray& ray, const RayHit& hit) const;
+
+  // The transport step every walk shares, written once: the surface vertex where `ray` meets
+  // `hit` (its context, face, frame and BSDF from the scene's materials), ...
+  SurfaceVertex surface_vertex(const Ray& ray, const RayHit& hit, const SampledWavelengths& wl) const;
+  // ... and the path's continuation by sampling the BSDF with (u, u_lobe): multiplies `beta` by
+  // the sample's weight f·|cos|/pdf, sets `pdf` and the next ray (offset to the side it leaves
+  // to). False, with nothing changed, when the path ends there: no direction was sampled, or the
+  // shading and geometric normals disagree on the side it would leave to.
+  bool scatter(const SurfaceVertex& v, Vec2 u, float u_lobe, SampledSpectrum& beta, float& pdf, Ray& next) const;
 
   // Beer's law along o + t d (d unit) through the turbid crowns it crosses, exp(−Σ σ_t·length),
   // σ_t = G·LAD; assumes no opaque surface on the way (check occluded() first) and crowns that do

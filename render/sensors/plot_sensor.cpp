@@ -174,8 +174,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
       Pcg32 rng(hash_ids(settings.seed, 0x666c7578u, static_cast<uint64_t>(s)));
       const Vec3 p = plot_point(scene.plot, top, rng);
       const SampledWavelengths wl = wavelengths.sample(rng.uniform());
-      const Vec2 u_light = uniform2(rng);
-      const LightSample ls = environment.sample(u_light, rng.uniform(), wl);
+      const LightSample ls = integrator.sample_light(wl, rng);
       // The energy this path carries onto the plot's top plane: L cos θ / pdf per wavelength.
       SampledSpectrum incident(0.0f);
       if (ls.pdf > 0 && ls.wi.z > 0) incident = ls.radiance * (ls.wi.z / ls.pdf);
@@ -189,27 +188,17 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
           if (ray.direction.z > 0) x[kReflected] += beta;
           break;
         }
-        HitContext si = integrator.interaction(ray, hit);
-        const Vec3 wo = -ray.direction;
-        si.front = glm::dot(wo, si.ng) > 0;
-        si.wl = &wl;
-        const Vec3 ng = si.front ? si.ng : -si.ng;
-        const Frame frame = si.shading_frame();
-        const Bsdf bsdf = material_bsdf(scene.materials[si.material], si);
-        const Term where = category(si.material);
+        // The camera paths' transport step (Integrator): the vertex, its BSDF and its continuation.
+        const SurfaceVertex v = integrator.surface_vertex(ray, hit, wl);
+        const Term where = category(v.ctx.material);
         if (where == kGround) {
           x[kGroundTotal] += beta;
           if (depth == 0) x[kGroundDirect] += beta;
         }
-        x[where] += beta * (SampledSpectrum(1.0f) - bsdf.albedo());
-        BsdfSample bs;
+        x[where] += beta * (SampledSpectrum(1.0f) - v.bsdf.albedo());
         const Vec2 u_bsdf = uniform2(rng);
-        if (!bsdf.sample(frame.to_local(wo), u_bsdf, rng.uniform(), &bs)) break;
-        const Vec3 wi = frame.to_world(bs.wi);
-        const float cos_g = glm::dot(wi, ng);
-        if (cos_g == 0 || (cos_g < 0) != bs.transmitted) break;
-        beta *= bs.value;
-        ray = Ray{offset_ray_origin(si.p, bs.transmitted ? -ng : ng), wi};
+        float pdf = 0;
+        if (!integrator.scatter(v, u_bsdf, rng.uniform(), beta, pdf, ray)) break;
         if (depth + 1 >= settings.integrator.rr_start_depth) {
           // Roulette on the throughput relative to the incident energy, as the integrator does.
           float rel = 0;
