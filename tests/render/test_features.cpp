@@ -62,7 +62,8 @@ TEST(Features, HalvesSplitTheBeautyAndClassesSumToOne) {
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
       double total = 0;
-      for (const char* k : {"leaf", "bark", "ground", "sky"}) total += im.at(x, y, im.find_channel(std::string("feature.class.") + k));
+      for (const char* k : {"leaf", "bark", "ground", "sky"})
+        total += im.at(x, y, im.find_channel(std::string("feature.class.") + k));
       EXPECT_NEAR(total, 1.0, 1e-6);
       EXPECT_NEAR(im.at(x, y, feature_albedo), im.at(x, y, albedo) + im.at(x, y, sky), 2e-3);
       const float s = im.at(x, y, sun);
