@@ -106,7 +106,7 @@ std::map<std::string, std::string> describe_job(const RenderRequest& request, co
       {"quantity", quantity_name(s.quantity)},
       {"isa", embree_isa_name(s.isa)}};
   // Hexadecimal: the exact double, so the merge rebuilds the same scene.
-  if (s.features) fields["features"] = "1";
+  if (s.features) fields.emplace("features", "yes");
   if (request.time_s) fields["time"] = fmt::format("{:a}", *request.time_s);
   for (size_t i = 0; i < request.overrides.size(); ++i) fields[fmt::format("set_{}", i)] = request.overrides[i];
   return fields;
