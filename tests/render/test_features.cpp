@@ -9,6 +9,7 @@
 
 namespace sylva {
 namespace {
+namespace features_test {
 
 using test::film_bytes;
 using test::stand_scene;
@@ -117,5 +118,6 @@ TEST(Features, SampleChunksMergeBitIdenticalToOneRender) {
   }
 }
 
+}  // namespace features_test
 }  // namespace
 }  // namespace sylva
