@@ -33,7 +33,7 @@ struct Offset {
 struct Prepared {
   int width = 0, height = 0, nc = 0;
   std::vector<float> guide[2], guide_var[2];
-  std::vector<Offset> offsets;  // by ring (Chebyshev distance), then row-major
+  std::vector<Offset> offsets;   // by ring (Chebyshev distance), then row-major
   std::vector<size_t> ring_end;  // per candidate radius: offsets in its window
 };
 

@@ -30,12 +30,12 @@ enum DenoiseFeature : int {
 // A still's buffers, pixel p = y · width + x, top row first.
 struct DenoiseBuffers {
   int width = 0, height = 0;
-  int channels = 0;              // beauty channels of every band group together
-  std::vector<float> half[2];    // the even- and odd-sample means, [p · channels + c]
-  std::vector<float> variance;   // variance of the whole pixel mean, [p · channels + c]
-  std::vector<float> features;   // [p · kDenoiseFeatures + f]
+  int channels = 0;                     // beauty channels of every band group together
+  std::vector<float> half[2];           // the even- and odd-sample means, [p · channels + c]
+  std::vector<float> variance;          // variance of the whole pixel mean, [p · channels + c]
+  std::vector<float> features;          // [p · kDenoiseFeatures + f]
   std::vector<float> feature_variance;  // variance of each feature's mean, same layout (0: unknown)
-  std::vector<uint32_t> labels;  // regions never filtered across (id.object); empty: none
+  std::vector<uint32_t> labels;         // regions never filtered across (id.object); empty: none
 };
 
 struct DenoiseSettings {
@@ -43,7 +43,7 @@ struct DenoiseSettings {
   // The candidates' window radii, increasing (pixels): each gives a zeroth- and a first-order
   // estimate, beside the unfiltered half-buffer.
   std::vector<int> radii{2, 4, 7};
-  float color_k = 1.0f;       // the colour weights' bandwidth, in noise standard deviations
+  float color_k = 1.0f;        // the colour weights' bandwidth, in noise standard deviations
   float feature_scale = 1.0f;  // multiplies every feature bandwidth
   float ridge = 0.01f;         // regularisation of the first-order coefficients
   int selection_radius = 3;    // the error estimates are averaged over (2r + 1)² pixels

@@ -13,9 +13,10 @@ namespace {
 int required(const Image& image, const std::string& name) {
   const int c = image.find_channel(name);
   if (c < 0)
-    throw Error(fmt::format("the image has no {} channel: the denoiser needs the features of a render made with "
-                            "--features or --denoise (docs/denoise.md)",
-                            name));
+    throw Error(
+        fmt::format("the image has no {} channel: the denoiser needs the features of a render made with "
+                    "--features or --denoise (docs/denoise.md)",
+                    name));
   return c;
 }
 
@@ -49,9 +50,9 @@ DenoiseBuffers denoise_buffers(const Image& image) {
     var.push_back(image.find_channel("var." + c));
     albedo.push_back(required(image, "feature.albedo." + c));
   }
-  const std::array<const char*, kDenoiseFeatures> names{"feature.albedo", "feature.N.X", "feature.N.Y", "feature.N.Z",
-                                                        "feature.Z",      "feature.sun", "feature.class.sky",
-                                                        "feature.class.leaf"};
+  const std::array<const char*, kDenoiseFeatures> names{"feature.albedo",    "feature.N.X",       "feature.N.Y",
+                                                        "feature.N.Z",       "feature.Z",         "feature.sun",
+                                                        "feature.class.sky", "feature.class.leaf"};
   std::array<int, kDenoiseFeatures> feature{}, feature_var{};
   for (int f = 1; f < kDenoiseFeatures; ++f) {
     feature[f] = required(image, names[f]);

@@ -104,7 +104,8 @@ TEST(Denoise, StepAcrossAnIdBoundaryDoesNotBleed) {
 }
 
 TEST(Denoise, SameBitsAtOneAndTwoThreads) {
-  const DenoiseBuffers b = noisy_buffers([](int x, int y, int) { return 0.1f * static_cast<float>((x / 7 + y / 5) % 4); }, 4);
+  const DenoiseBuffers b =
+      noisy_buffers([](int x, int y, int) { return 0.1f * static_cast<float>((x / 7 + y / 5) % 4); }, 4);
   DenoiseSettings one, two;
   one.threads = 1;
   two.threads = 2;
