@@ -72,7 +72,7 @@ void Builder::fan_children(StemState& s, int stem_index, const Vec3& tip, const 
 }
 
 void Builder::spawn_child(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& pos, float offset,
-                 float fan_deg, bool fan) {
+                          float fan_deg, bool fan) {
   StemState c;
   c.level = s.level + 1;
   c.parent = stem_index;
@@ -147,8 +147,8 @@ float Builder::prune(const StemState& c) {
 }
 
 // §4.5 leaves, with the leaf level's down and rotate angles, oriented by §4.9.
-void Builder::add_leaf(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& axis_pos, float offset, bool fan,
-              float fan_deg) {
+void Builder::add_leaf(StemState& s, int stem_index, const Frame& parent_frame, const Vec3& axis_pos, float offset,
+                       bool fan, float fan_deg) {
   const WeberPennLevel& lp = p_.at(p_.levels);
   if (m_.leaves.size() >= kMaxWeberPennLeaves)
     throw Error("tree too large: more than " + std::to_string(kMaxWeberPennLeaves) +
@@ -178,7 +178,7 @@ void Builder::fan_leaves(StemState& s, int stem_index, const Vec3& tip, const Fr
   // As many as along a stem: |Leaves|·ShapeRatio(LeafDistrib, offset/length_parent)·quality, rounded
   // (Arbaro's makeLeaves, fan mode).
   const float per_stem = leaf_count(-p_.leaves, p_.leaf_distrib, s.offset, s.level == 0 ? 0.0f : s.parent_length,
-                                        p_.quality * p_.leaf_quality, p_.reading);
+                                    p_.quality * p_.leaf_quality, p_.reading);
   const int count = static_cast<int>(std::floor(per_stem + 0.5f));
   for (int j = 0; j < count; ++j) {
     const float a =
