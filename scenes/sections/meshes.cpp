@@ -46,8 +46,8 @@ void make_leaf_cloud_shape(const Params& t, Prototype& p) {
 void make_shape(const Params& t, Prototype& p) {
   using Make = void (*)(const Params&, Prototype&);
   static constexpr std::pair<std::string_view, Make> kShapes[] = {
-      {"plane", &make_plane_shape},       {"box", &make_box_shape},
-      {"sphere", &make_sphere_shape},     {"cylinder", &make_cylinder_shape},
+      {"plane", &make_plane_shape},           {"box", &make_box_shape},
+      {"sphere", &make_sphere_shape},         {"cylinder", &make_cylinder_shape},
       {"leaf_cloud", &make_leaf_cloud_shape},
   };
   const std::string shape = t.has("shape") ? t.string("shape") : std::string();

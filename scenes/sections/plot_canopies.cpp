@@ -122,8 +122,8 @@ void parse_leaves(const Params& root, SceneBuilder& b) {
 void parse_canopies(const Params& root, SceneBuilder& b) {
   for (const Params* t : root.tables("canopies")) {
     t->check_keys({"name", "type", "material", "lai", "height", "size", "centre", "disc_radius", "leaf_angles", "seed",
-                   "sphere_radius", "centres", "centres_file", "translate", "rotate", "scale", "object_id",
-                   "instances", "tile"});
+                   "sphere_radius", "centres", "centres_file", "translate", "rotate", "scale", "object_id", "instances",
+                   "tile"});
     const std::string type = t->string("type");
     Prototype p;
     p.name = t->string("name", fmt::format("canopy{}", b.scene().prototypes.size()));

@@ -129,7 +129,8 @@ std::vector<SceneBuilder::Placed> SceneBuilder::placements(const Params& t, cons
   const std::vector<Vec3> tiles = tile_offsets(t, out_.scene.plot);
   const auto put = [&](const Mat4& m, uint32_t id) {
     for (const Vec3& tile : tiles)
-      for (const Vec3& a : at) out.push_back({glm::translate(Mat4(1.0f), tile) * m * glm::translate(Mat4(1.0f), a), id});
+      for (const Vec3& a : at)
+        out.push_back({glm::translate(Mat4(1.0f), tile) * m * glm::translate(Mat4(1.0f), a), id});
   };
   if (t.has("instances")) {
     for (const Params* it : t.tables("instances")) {

@@ -172,8 +172,8 @@ void add_grass(const FeatureMap& map, uint64_t seed, SceneBuilder& b) {
     Mat4 shear(1.0f);
     shear[0][2] = patch.slope.x;
     shear[1][2] = patch.slope.y;
-    const Mat4 m = glm::translate(Mat4(1.0f), patch.centre_m) * shear *
-                   glm::rotate(Mat4(1.0f), patch.heading_rad, Vec3(0, 0, 1));
+    const Mat4 m =
+        glm::translate(Mat4(1.0f), patch.centre_m) * shear * glm::rotate(Mat4(1.0f), patch.heading_rad, Vec3(0, 0, 1));
     b.scene().instances.push_back(
         Instance{b.grass[static_cast<size_t>(patch.grass_type - 1)].prototype, m, 0, kClassGrass, 0});
   }

@@ -32,8 +32,8 @@ TEST(SceneSections, EachSectionOnceAndItsInputsBeforeIt) {
   // Materials before every user of one; [render] and [camera] before [lod] (the image and view
   // give each tree's range); the [plot] before the tiles of meshes and trees; the terrain before
   // what stands on it; meshes and terrain before the targets that snap onto them.
-  for (const char* user : {"plot", "meshes", "trees", "leaves", "canopies", "terrain", "grass", "vegetation",
-                           "placements", "targets"})
+  for (const char* user :
+       {"plot", "meshes", "trees", "leaves", "canopies", "terrain", "grass", "vegetation", "placements", "targets"})
     EXPECT_LT(position_of("materials"), position_of(user)) << user;
   EXPECT_LT(position_of("render"), position_of("lod"));
   EXPECT_LT(position_of("camera"), position_of("lod"));
@@ -73,13 +73,15 @@ type = "leaf"
 reflectance = 0.4
 transmittance = 0.3
 [[trees]]
-species = ")" + species + R"("
+species = ")" +
+         species + R"("
 bark = "bark"
 leaf = "leaf"
 quality = 0.2
 translate = [0, 0, 0]
 [[trees]]
-species = ")" + species + R"("
+species = ")" +
+         species + R"("
 bark = "bark"
 leaf = "leaf"
 quality = 0.2
@@ -87,7 +89,8 @@ translate = [0, 150, 0]
 [[placements]]
 rows = [{ x = 5, y = 400, species = "aspen", seed = 1 }, { x = -5, y = 10, species = "aspen", seed = 1 }]
 [placements.species.aspen]
-species = ")" + species + R"("
+species = ")" +
+         species + R"("
 bark = "bark"
 leaf = "leaf"
 quality = 0.2
