@@ -67,30 +67,50 @@ float blend_field(const Vec3& x, std::span<const BlendCone> cones, float f1, con
   return smin(f1, -smin(-blend, 0.8f * reach - f1));
 }
 
-TriangleMesh polygonise_box(FieldRef field_at, FieldRef normal_at, const Vec3& lo, const glm::ivec3& cells, float h,
-                            std::span<const BlendJoint> joints) {
-  // Grid points 0..n, the outer layer (0 and n) forced outside so the surface closes.
-  const glm::ivec3 n = cells + 2;
-  const Vec3 origin = lo - Vec3(h);
-  auto index = [&](int i, int j, int k) {
+namespace {
+
+// polygonise_box's grid: points 0..n along each axis from `origin`, h apart, the outer layer
+// (0 and n) forced outside so the surface closes.
+struct Grid {
+  glm::ivec3 n;
+  Vec3 origin;
+  float h;
+  std::vector<float> field;
+  std::vector<uint8_t> border;
+
+  size_t index(int i, int j, int k) const {
     return (static_cast<size_t>(k) * static_cast<size_t>(n.y + 1) + static_cast<size_t>(j)) *
                static_cast<size_t>(n.x + 1) +
            static_cast<size_t>(i);
-  };
-  auto position = [&](int i, int j, int k) { return origin + h * Vec3(i, j, k); };
-  std::vector<float> field(static_cast<size_t>(n.x + 1) * static_cast<size_t>(n.y + 1) * static_cast<size_t>(n.z + 1));
-  std::vector<uint8_t> border(field.size());
+  }
+  Vec3 position(int i, int j, int k) const { return origin + h * Vec3(i, j, k); }
+};
+
+// The most fillet·s² any of `joints` adds within `ball` of c.
+float most_fillet(const Vec3& c, float ball, std::span<const BlendJoint> joints) {
+  float fillet = 0;
+  for (const BlendJoint& j : joints) {
+    const float s = std::max(0.0f, 1.0f - (glm::length(c - j.centre) - ball) / j.reach_m);
+    fillet = std::max(fillet, j.fillet_m * std::min(1.0f, s) * std::min(1.0f, s));
+  }
+  return fillet;
+}
+
+// Samples the field at the grid points, block by block (a uniform block's inner points take the
+// centre's value; polygonise_box).
+Grid sample_grid(FieldRef field_at, const Vec3& lo, const glm::ivec3& cells, float h,
+                 std::span<const BlendJoint> joints) {
+  Grid g{cells + 2, lo - Vec3(h), h, {}, {}};
+  const glm::ivec3 n = g.n;
+  g.field.resize(static_cast<size_t>(n.x + 1) * static_cast<size_t>(n.y + 1) * static_cast<size_t>(n.z + 1));
+  g.border.resize(g.field.size());
   constexpr int kBlock = 4;
   const float ball = (0.5f * kBlock + 1) * std::sqrt(3.0f) * h;
   for (int bk = 0; bk <= n.z; bk += kBlock)
     for (int bj = 0; bj <= n.y; bj += kBlock)
       for (int bi = 0; bi <= n.x; bi += kBlock) {
-        const Vec3 c = origin + h * (Vec3(bi, bj, bk) + 0.5f * static_cast<float>(kBlock - 1));
-        float fillet = 0;
-        for (const BlendJoint& j : joints) {
-          const float s = std::max(0.0f, 1.0f - (glm::length(c - j.centre) - ball) / j.reach_m);
-          fillet = std::max(fillet, j.fillet_m * std::min(1.0f, s) * std::min(1.0f, s));
-        }
+        const Vec3 c = g.origin + h * (Vec3(bi, bj, bk) + 0.5f * static_cast<float>(kBlock - 1));
+        const float fillet = most_fillet(c, ball, joints);
         const float centre = field_at(c);
         const bool uniform = std::abs(centre) > 1.2f * ball + fillet;
         for (int k = bk; k <= std::min(bk + kBlock - 1, n.z); ++k)
@@ -98,27 +118,33 @@ TriangleMesh polygonise_box(FieldRef field_at, FieldRef normal_at, const Vec3& l
             for (int i = bi; i <= std::min(bi + kBlock - 1, n.x); ++i) {
               const bool outer = i == 0 || j == 0 || k == 0 || i == n.x || j == n.y || k == n.z;
               const bool edge = i == 1 || j == 1 || k == 1 || i == n.x - 1 || j == n.y - 1 || k == n.z - 1;
-              border[index(i, j, k)] = outer;
-              field[index(i, j, k)] = outer ? h : uniform && !edge ? centre : field_at(position(i, j, k));
+              g.border[g.index(i, j, k)] = outer;
+              g.field[g.index(i, j, k)] = outer ? h : uniform && !edge ? centre : field_at(g.position(i, j, k));
             }
       }
+  return g;
+}
 
+// The mesh polygonise_box builds, one vertex per grid edge the surface crosses.
+struct EdgeVertices {
+  const Grid& grid;
+  FieldRef field_at;
+  FieldRef normal_at;
   TriangleMesh mesh;
   std::unordered_map<uint64_t, uint32_t> edge_vertex;
-  // The vertex where the surface crosses the grid edge a–b (a inside, b outside).
-  auto vertex_on = [&](size_t a, size_t b, const Vec3& pa, const Vec3& pb) -> uint32_t {
-    const uint64_t key = a < b ? (static_cast<uint64_t>(a) << 32 | b) : (static_cast<uint64_t>(b) << 32 | a);
-    if (const auto it = edge_vertex.find(key); it != edge_vertex.end()) return it->second;
-    float fa = field[a], fb = field[b];
+
+  // Where along the grid edge a–b (a inside, b outside) the surface lies, 0 at a.
+  float crossing(size_t a, size_t b, const Vec3& pa, const Vec3& pb) const {
+    float fa = grid.field[a], fb = grid.field[b];
     float ta = 0, tb = 1;
     float t = fa / (fa - fb);
     // Regula falsi (the Illinois variant) along the edge onto the surface, except on edges to
     // the forced-outside border, where the surface is the closing cap.
-    if (!border[a] && !border[b]) {
+    if (!grid.border[a] && !grid.border[b]) {
       int side_kept = 0;
       for (int it = 0; it < 16 && fa != fb; ++it) {
         const float ft = field_at(pa + (pb - pa) * t);
-        if (std::abs(ft) <= 1e-3f * h) break;  // micrometres: on the surface
+        if (std::abs(ft) <= 1e-3f * grid.h) break;  // micrometres: on the surface
         if (ft < 0) {
           ta = t;
           fa = ft;
@@ -133,10 +159,17 @@ TriangleMesh polygonise_box(FieldRef field_at, FieldRef normal_at, const Vec3& l
         t = ta + (tb - ta) * fa / (fa - fb);
       }
     }
+    return t;
+  }
+
+  // The vertex where the surface crosses the grid edge a–b (a inside, b outside).
+  uint32_t vertex_on(size_t a, size_t b, const Vec3& pa, const Vec3& pb) {
+    const uint64_t key = a < b ? (static_cast<uint64_t>(a) << 32 | b) : (static_cast<uint64_t>(b) << 32 | a);
+    if (const auto it = edge_vertex.find(key); it != edge_vertex.end()) return it->second;
     // Not at a grid point: the vertices of the edges meeting there stay apart.
-    t = std::clamp(t, 1e-3f, 1 - 1e-3f);
+    const float t = std::clamp(crossing(a, b, pa, pb), 1e-3f, 1 - 1e-3f);
     const Vec3 p = pa + (pb - pa) * t;
-    const float e = 0.05f * h;
+    const float e = 0.05f * grid.h;
     Vec3 g(normal_at(p + Vec3(e, 0, 0)) - normal_at(p - Vec3(e, 0, 0)),
            normal_at(p + Vec3(0, e, 0)) - normal_at(p - Vec3(0, e, 0)),
            normal_at(p + Vec3(0, 0, e)) - normal_at(p - Vec3(0, 0, e)));
@@ -147,69 +180,91 @@ TriangleMesh polygonise_box(FieldRef field_at, FieldRef normal_at, const Vec3& l
     mesh.uvs.emplace_back(0.0f, 0.0f);
     edge_vertex.emplace(key, v);
     return v;
-  };
+  }
 
-  // A cube's corners and its six tetrahedra around the 0–6 diagonal.
+  // Adds the triangle a b c, oriented so its normal points away from `inside_point`.
+  void emit(uint32_t a, uint32_t b, uint32_t c, const Vec3& inside_point) {
+    const Vec3 pa = mesh.positions[a], pb = mesh.positions[b], pc = mesh.positions[c];
+    const Vec3 nrm = glm::cross(pb - pa, pc - pa);
+    if (glm::dot(nrm, pa - inside_point) < 0) std::swap(b, c);
+    mesh.triangles.emplace_back(a, b, c);
+  }
+};
+
+// One cell's corners: grid indices and positions.
+struct Cell {
+  std::array<size_t, 8> id;
+  std::array<Vec3, 8> pos;
+};
+
+// The surface within one tetrahedron of a cell (corners `tet`): a triangle cutting off one
+// corner (inside or outside), or a quad between two.
+void march_tetrahedron(EdgeVertices& ev, const Cell& cell, const std::array<int, 4>& tet) {
+  const Grid& grid = ev.grid;
+  std::array<int, 4> in{}, out{};
+  int ni = 0, no = 0;
+  for (int c : tet) {
+    if (grid.field[cell.id[static_cast<size_t>(c)]] < 0)
+      in[static_cast<size_t>(ni++)] = c;
+    else
+      out[static_cast<size_t>(no++)] = c;
+  }
+  if (ni == 0 || ni == 4) return;
+  auto v = [&](int a, int b) {
+    return ev.vertex_on(cell.id[static_cast<size_t>(a)], cell.id[static_cast<size_t>(b)],
+                        cell.pos[static_cast<size_t>(a)], cell.pos[static_cast<size_t>(b)]);
+  };
+  const auto& pos = cell.pos;
+  if (ni == 1) {
+    ev.emit(v(in[0], out[0]), v(in[0], out[1]), v(in[0], out[2]), pos[static_cast<size_t>(in[0])]);
+  } else if (ni == 3) {
+    ev.emit(
+        v(in[0], out[0]), v(in[1], out[0]), v(in[2], out[0]),
+        (pos[static_cast<size_t>(in[0])] + pos[static_cast<size_t>(in[1])] + pos[static_cast<size_t>(in[2])]) / 3.0f);
+  } else {
+    const uint32_t a = v(in[0], out[0]), b = v(in[0], out[1]), c = v(in[1], out[1]), d = v(in[1], out[0]);
+    const Vec3 inside_point = (pos[static_cast<size_t>(in[0])] + pos[static_cast<size_t>(in[1])]) * 0.5f;
+    ev.emit(a, b, c, inside_point);
+    ev.emit(a, c, d, inside_point);
+  }
+}
+
+// The surface within the cell from grid point (i, j, k): its six tetrahedra around the 0–6
+// diagonal.
+void march_cell(EdgeVertices& ev, int i, int j, int k) {
   static constexpr std::array<std::array<int, 3>, 8> kCorner = {
       {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}};
   static constexpr std::array<std::array<int, 4>, 6> kTet = {
       {{0, 5, 1, 6}, {0, 1, 2, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 7, 4, 6}, {0, 4, 5, 6}}};
-  for (int k = 0; k < n.z; ++k)
-    for (int j = 0; j < n.y; ++j)
-      for (int i = 0; i < n.x; ++i) {
-        std::array<size_t, 8> id;
-        std::array<Vec3, 8> pos;
-        int inside = 0;
-        for (int c = 0; c < 8; ++c) {
-          const auto& o = kCorner[static_cast<size_t>(c)];
-          id[static_cast<size_t>(c)] = index(i + o[0], j + o[1], k + o[2]);
-          pos[static_cast<size_t>(c)] = position(i + o[0], j + o[1], k + o[2]);
-          inside += field[id[static_cast<size_t>(c)]] < 0;
-        }
-        if (inside == 0 || inside == 8) continue;
-        for (const auto& tet : kTet) {
-          std::array<int, 4> in{}, out{};
-          int ni = 0, no = 0;
-          for (int c : tet) {
-            if (field[id[static_cast<size_t>(c)]] < 0)
-              in[static_cast<size_t>(ni++)] = c;
-            else
-              out[static_cast<size_t>(no++)] = c;
-          }
-          if (ni == 0 || ni == 4) continue;
-          auto v = [&](int a, int b) {
-            return vertex_on(id[static_cast<size_t>(a)], id[static_cast<size_t>(b)], pos[static_cast<size_t>(a)],
-                             pos[static_cast<size_t>(b)]);
-          };
-          // Orient each triangle so its normal points from the inside corners outward.
-          auto emit = [&](uint32_t a, uint32_t b, uint32_t c, const Vec3& inside_point) {
-            const Vec3 pa = mesh.positions[a], pb = mesh.positions[b], pc = mesh.positions[c];
-            const Vec3 nrm = glm::cross(pb - pa, pc - pa);
-            if (glm::dot(nrm, pa - inside_point) < 0) std::swap(b, c);
-            mesh.triangles.emplace_back(a, b, c);
-          };
-          if (ni == 1) {
-            emit(v(in[0], out[0]), v(in[0], out[1]), v(in[0], out[2]), pos[static_cast<size_t>(in[0])]);
-          } else if (ni == 3) {
-            emit(v(in[0], out[0]), v(in[1], out[0]), v(in[2], out[0]),
-                 (pos[static_cast<size_t>(in[0])] + pos[static_cast<size_t>(in[1])] + pos[static_cast<size_t>(in[2])]) /
-                     3.0f);
-          } else {
-            const uint32_t a = v(in[0], out[0]), b = v(in[0], out[1]), c = v(in[1], out[1]), d = v(in[1], out[0]);
-            const Vec3 inside_point = (pos[static_cast<size_t>(in[0])] + pos[static_cast<size_t>(in[1])]) * 0.5f;
-            emit(a, b, c, inside_point);
-            emit(a, c, d, inside_point);
-          }
-        }
-      }
-  return mesh;
+  const Grid& grid = ev.grid;
+  Cell cell;
+  int inside = 0;
+  for (int c = 0; c < 8; ++c) {
+    const auto& o = kCorner[static_cast<size_t>(c)];
+    cell.id[static_cast<size_t>(c)] = grid.index(i + o[0], j + o[1], k + o[2]);
+    cell.pos[static_cast<size_t>(c)] = grid.position(i + o[0], j + o[1], k + o[2]);
+    inside += grid.field[cell.id[static_cast<size_t>(c)]] < 0;
+  }
+  if (inside == 0 || inside == 8) return;
+  for (const auto& tet : kTet) march_tetrahedron(ev, cell, tet);
+}
+
+}  // namespace
+
+TriangleMesh polygonise_box(FieldRef field_at, FieldRef normal_at, const Vec3& lo, const glm::ivec3& cells, float h,
+                            std::span<const BlendJoint> joints) {
+  const Grid grid = sample_grid(field_at, lo, cells, h, joints);
+  EdgeVertices ev{grid, field_at, normal_at, {}, {}};
+  for (int k = 0; k < grid.n.z; ++k)
+    for (int j = 0; j < grid.n.y; ++j)
+      for (int i = 0; i < grid.n.x; ++i) march_cell(ev, i, j, k);
+  return std::move(ev.mesh);
 }
 
 }  // namespace surface_detail
 
-using namespace surface_detail;
-
 float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const BlendJoint& joint) {
+  using namespace surface_detail;  // the internals (surface_detail.h)
   float f1 = std::numeric_limits<float>::infinity();
   for (size_t i = 0; i < std::min<size_t>(cones.size(), 16); ++i) {
     const ConeDistance cd = cone_distance(x, cones[i]);
@@ -219,9 +274,11 @@ float blended_cones(const Vec3& x, std::span<const BlendCone> cones, const Blend
 }
 
 TriangleMesh polygonise_joint(std::span<const BlendCone> cones, const BlendJoint& joint, float half_m, int cells) {
+  using namespace surface_detail;  // the internals (surface_detail.h)
   const float h = 2 * half_m / static_cast<float>(cells);
   auto field = [&](const Vec3& x) { return blended_cones(x, cones, joint); };
-  return polygonise_box(FieldRef(field), FieldRef(field), joint.centre - Vec3(half_m), glm::ivec3(cells), h, std::span(&joint, 1));
+  return polygonise_box(FieldRef(field), FieldRef(field), joint.centre - Vec3(half_m), glm::ivec3(cells), h,
+                        std::span(&joint, 1));
 }
 
 }  // namespace sylva

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 
 namespace sylva::surface_detail {
@@ -25,48 +26,63 @@ float angle_about(const Vec3& p, const Vec3& centre, const Vec3& axis, const Vec
   return wrap(std::atan2(glm::dot(d, glm::cross(axis, e0)), glm::dot(d, e0)));
 }
 
-}  // namespace
+// The vertices' side of a cut's plane: their distance beyond it and their state.
+struct CutSides {
+  std::vector<float> d;
+  std::vector<uint8_t> state;  // 0 kept, 1 removed (beyond, in the cylinder), 2 beyond but outside
+};
 
-// Opens the closed joint mesh where a limb leaves it: drops what lies beyond the cut's plane
-// within its cylinder and splits the triangles crossing the plane. The new vertices — one loop —
-// are moved onto the field's zero set within the plane, given the field's gradient as normal, and
-// returned in order around the limb. False (mesh untouched) when the cut is not clean: something
-// else crosses the cylinder beyond the plane, or the boundary is not one loop around the axis.
-bool open_joint(TriangleMesh& mesh, JointCut& cut, FieldRef field, FieldRef normal_at, float cell) {
+// Places the cut's plane: a vertex (nearly) on the plane would leave crossings (nearly) on top of
+// it, so the plane moves out a little until none is within a thousandth of a cell. Empty when
+// eight moves do not clear it.
+std::optional<CutSides> place_cut_plane(const TriangleMesh& mesh, JointCut& cut, float cell) {
   const Vec3 u = cut.normal;
   const size_t nv = mesh.positions.size();
-  std::vector<float> d(nv);
-  std::vector<uint8_t> state(nv);  // 0 kept, 1 removed (beyond, in the cylinder), 2 beyond but outside
-  // A vertex (nearly) on the plane would leave crossings (nearly) on top of it: the plane moves out
-  // a little until none is within a thousandth of a cell.
+  CutSides sides{std::vector<float>(nv), std::vector<uint8_t>(nv)};
+  std::vector<float>& d = sides.d;
   for (int attempt = 0;; ++attempt) {
     float nearest = std::numeric_limits<float>::infinity();
     for (size_t v = 0; v < nv; ++v) {
       const Vec3 rel = mesh.positions[v] - cut.origin;
       d[v] = glm::dot(rel, u);
       nearest = std::min(nearest, std::abs(d[v]) < cut.radius_m + cell ? std::abs(d[v]) : nearest);
-      state[v] = d[v] <= 0 ? 0 : glm::length(rel - u * d[v]) < cut.radius_m ? 1 : 2;
+      sides.state[v] = d[v] <= 0 ? 0 : glm::length(rel - u * d[v]) < cut.radius_m ? 1 : 2;
     }
     if (nearest >= 1e-3f * cell) break;
-    if (attempt == 8) return false;
+    if (attempt == 8) return std::nullopt;
     cut.origin += u * (2e-3f * cell);
     cut.gap_m -= 2e-3f * cell;
   }
-  TriangleMesh out;
+  return sides;
+}
+
+// The joint mesh cut at the plane: the kept triangles, those crossing the plane split there, and
+// the new vertices on the plane with the loop's directed edges between them.
+struct CutMesh {
+  TriangleMesh mesh;
+  std::unordered_map<uint64_t, uint32_t> crossing;
+  std::unordered_map<uint32_t, uint32_t> next;
+};
+
+// Cuts the mesh at the plane of `sides`; empty when a triangle beyond the plane reaches outside
+// the cylinder or two crossings start at one vertex.
+std::optional<CutMesh> cut_triangles(const TriangleMesh& mesh, const CutSides& sides) {
+  const std::vector<float>& d = sides.d;
+  const std::vector<uint8_t>& state = sides.state;
+  CutMesh cm;
+  TriangleMesh& out = cm.mesh;
   out.positions = mesh.positions;
   out.normals = mesh.normals;
   out.uvs = mesh.uvs;
-  std::unordered_map<uint64_t, uint32_t> crossing;
-  std::unordered_map<uint32_t, uint32_t> next;  // the loop's directed edges
   auto cross = [&](uint32_t a, uint32_t b) {
     const uint64_t key = static_cast<uint64_t>(a) << 32 | b;  // a kept, b removed
-    if (const auto it = crossing.find(key); it != crossing.end()) return it->second;
+    if (const auto it = cm.crossing.find(key); it != cm.crossing.end()) return it->second;
     const float t = d[a] / (d[a] - d[b]);
     const uint32_t v = static_cast<uint32_t>(out.positions.size());
     out.positions.push_back(out.positions[a] + (out.positions[b] - out.positions[a]) * t);
     out.normals.push_back(out.normals[a]);
     out.uvs.emplace_back(0.0f, 0.0f);
-    crossing.emplace(key, v);
+    cm.crossing.emplace(key, v);
     return v;
   };
   for (const glm::uvec3& t : mesh.triangles) {
@@ -76,7 +92,7 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, FieldRef field, FieldRef norm
       continue;
     }
     if (removed == 3) continue;
-    if (state[t.x] == 2 || state[t.y] == 2 || state[t.z] == 2) return false;
+    if (state[t.x] == 2 || state[t.y] == 2 || state[t.z] == 2) return std::nullopt;
     std::array<uint32_t, 4> poly{};
     size_t n = 0;
     uint32_t leave = 0, enter = 0;
@@ -87,24 +103,60 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, FieldRef field, FieldRef norm
       if (state[a] == 1 && state[b] == 0) enter = poly[n++] = cross(b, a);
     }
     // The kept polygon runs … → leave → enter → …: that edge lies on the plane, on the loop.
-    if (!next.emplace(leave, enter).second) return false;
+    if (!cm.next.emplace(leave, enter).second) return std::nullopt;
     out.triangles.emplace_back(poly[0], poly[1], poly[2]);
     if (n == 4) out.triangles.emplace_back(poly[0], poly[2], poly[3]);
   }
-  // One loop through every new vertex.
-  if (next.size() != crossing.size() || next.size() < 3) return false;
+  return cm;
+}
+
+// The one loop through every new vertex, in order; empty when they do not make one loop.
+std::optional<std::vector<uint32_t>> trace_loop(const CutMesh& cm) {
+  const auto& next = cm.next;
+  if (next.size() != cm.crossing.size() || next.size() < 3) return std::nullopt;
   std::vector<uint32_t> loop;
   for (uint32_t v = next.begin()->first;;) {
     loop.push_back(v);
     const auto it = next.find(v);
-    if (it == next.end()) return false;
+    if (it == next.end()) return std::nullopt;
     v = it->second;
     if (v == loop.front()) break;
-    if (loop.size() > next.size()) return false;
+    if (loop.size() > next.size()) return std::nullopt;
   }
-  if (loop.size() != next.size()) return false;
-  // Onto the zero set, along the plane's radius through the vertex (Illinois regula falsi within a
-  // cell either side).
+  if (loop.size() != next.size()) return std::nullopt;
+  return loop;
+}
+
+// The radius within a cell either side of r0 where the field along axis + dir·r is zero
+// (Illinois regula falsi); empty when the field does not change sign there.
+std::optional<float> zero_along(FieldRef field, const Vec3& axis, const Vec3& dir, float r0, float cell) {
+  float lo = std::max(0.0f, r0 - cell), hi = r0 + cell;
+  float flo = field(axis + dir * lo), fhi = field(axis + dir * hi);
+  if (flo >= 0 || fhi <= 0) return std::nullopt;
+  float r = r0;
+  int kept = 0;
+  for (int it = 0; it < 40; ++it) {
+    r = lo + (hi - lo) * flo / (flo - fhi);
+    const float fr = field(axis + dir * r);
+    if (std::abs(fr) <= 1e-7f || hi - lo <= 1e-7f) break;
+    if (fr < 0) {
+      lo = r, flo = fr;
+      if (kept == -1) fhi *= 0.5f;
+      kept = -1;
+    } else {
+      hi = r, fhi = fr;
+      if (kept == 1) flo *= 0.5f;
+      kept = 1;
+    }
+  }
+  return r;
+}
+
+// Moves the loop's vertices onto the zero set, along the plane's radius through each, and gives
+// them the gradient of `normal_at` as normal; false when one does not land within a cell.
+bool loop_onto_surface(TriangleMesh& out, const std::vector<uint32_t>& loop, const JointCut& cut, FieldRef field,
+                       FieldRef normal_at, float cell) {
+  const Vec3 u = cut.normal;
   const float e = 0.05f * cell;
   for (const uint32_t v : loop) {
     const Vec3 p = out.positions[v];
@@ -112,33 +164,20 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, FieldRef field, FieldRef norm
     const float r0 = glm::length(q);
     if (r0 <= 0) return false;
     const Vec3 axis = p - q, dir = q / r0;
-    float lo = std::max(0.0f, r0 - cell), hi = r0 + cell;
-    float flo = field(axis + dir * lo), fhi = field(axis + dir * hi);
-    if (flo >= 0 || fhi <= 0) return false;
-    float r = r0;
-    int kept = 0;
-    for (int it = 0; it < 40; ++it) {
-      r = lo + (hi - lo) * flo / (flo - fhi);
-      const float fr = field(axis + dir * r);
-      if (std::abs(fr) <= 1e-7f || hi - lo <= 1e-7f) break;
-      if (fr < 0) {
-        lo = r, flo = fr;
-        if (kept == -1) fhi *= 0.5f;
-        kept = -1;
-      } else {
-        hi = r, fhi = fr;
-        if (kept == 1) flo *= 0.5f;
-        kept = 1;
-      }
-    }
-    const Vec3 x = axis + dir * r;
-    if (glm::length(x - p) > cell || r >= cut.radius_m) return false;
+    const std::optional<float> r = zero_along(field, axis, dir, r0, cell);
+    if (!r) return false;
+    const Vec3 x = axis + dir * *r;
+    if (glm::length(x - p) > cell || *r >= cut.radius_m) return false;
     out.positions[v] = x;
     const Vec3 g = field_gradient(normal_at, x, e);
     out.normals[v] = glm::length(g) > 0 ? glm::normalize(g) : out.normals[v];
   }
-  // Crossings of a sliver may land on (nearly) the same point: each such loop edge collapses, its
-  // triangle with it.
+  return true;
+}
+
+// Crossings of a sliver may land on (nearly) the same point: each such loop edge collapses, its
+// triangle with it. False when fewer than three loop vertices are left.
+bool collapse_slivers(TriangleMesh& out, std::vector<uint32_t>& loop, float cell) {
   std::vector<uint32_t> kept;
   std::unordered_map<uint32_t, uint32_t> alias;
   for (const uint32_t v : loop) {
@@ -165,8 +204,13 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, FieldRef field, FieldRef norm
     out.triangles = std::move(triangles);
   }
   loop = std::move(kept);
-  // Once around the axis, in one direction (a vertex may fall back a little where marching
-  // tetrahedra left two crossings close together; the band's walk tolerates that).
+  return true;
+}
+
+// Whether the loop goes once around the axis, in one direction (a vertex may fall back a little
+// where marching tetrahedra left two crossings close together; the band's walk tolerates that).
+bool turns_once(const TriangleMesh& out, const std::vector<uint32_t>& loop, const JointCut& cut) {
+  const Vec3 u = cut.normal;
   const Vec3 e0 = Frame::from_z(u).x;
   std::vector<float> steps(loop.size());
   float turned = 0;
@@ -180,7 +224,23 @@ bool open_joint(TriangleMesh& mesh, JointCut& cut, FieldRef field, FieldRef norm
   const float back = 0.5f * 2 * kPi / static_cast<float>(loop.size());
   for (const float step : steps)
     if (step * turned < 0 && std::abs(step) > back) return false;
-  cut.loop = std::move(loop);
+  return true;
+}
+
+}  // namespace
+
+bool open_joint(TriangleMesh& mesh, JointCut& cut, FieldRef field, FieldRef normal_at, float cell) {
+  const std::optional<CutSides> sides = place_cut_plane(mesh, cut, cell);
+  if (!sides) return false;
+  std::optional<CutMesh> cm = cut_triangles(mesh, *sides);
+  if (!cm) return false;
+  std::optional<std::vector<uint32_t>> loop = trace_loop(*cm);
+  if (!loop) return false;
+  TriangleMesh& out = cm->mesh;
+  if (!loop_onto_surface(out, *loop, cut, field, normal_at, cell)) return false;
+  if (!collapse_slivers(out, *loop, cell)) return false;
+  if (!turns_once(out, *loop, cut)) return false;
+  cut.loop = std::move(*loop);
   mesh = std::move(out);
   return true;
 }

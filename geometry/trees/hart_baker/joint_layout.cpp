@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace sylva::surface_detail {
 
@@ -118,83 +119,105 @@ PathWalk walk_limb(const TreeModel& model, const std::vector<std::vector<int32_t
   }
 }
 
-}  // namespace
+// What layout_cluster reads: the model, its joints, the cluster's members and its cell.
+struct Cluster {
+  const std::vector<size_t>& members;
+  const TreeModel& model;
+  const std::vector<std::vector<int32_t>>& children;
+  const std::vector<int32_t>& joint_of;
+  const std::vector<NodeJoint>& nodes;
+  const std::vector<StemCone>& cones;
+  float ahead;
+  float h;                      // the cluster's cell: its members' finest
+  std::vector<uint8_t> member;  // per joint, whether it is one of the cluster's
+};
 
-ClusterLayout layout_cluster(const std::vector<size_t>& members, const TreeModel& model,
-                             const std::vector<std::vector<int32_t>>& children, const std::vector<int32_t>& joint_of,
-                             const std::vector<NodeJoint>& nodes, const std::vector<StemCone>& cones, float ahead) {
-  using Result = ClusterLayout::Result;
-  ClusterLayout out;
-  float h = std::numeric_limits<float>::infinity();
-  std::vector<uint8_t> member(nodes.size(), 0);
-  for (const size_t j : members) {
-    h = std::min(h, nodes[j].cell);
-    member[j] = 1;
-  }
-  struct Limb {
-    int32_t start;
-    bool up;
-    size_t node;
-    float cut;
-    PathWalk walk;
-  };
+// A limb at one of the cluster's nodes, followed out to its cut.
+struct Limb {
+  int32_t start;
+  bool up;
+  size_t node;
+  float cut;
+  PathWalk walk;
+};
+
+// Every limb at the cluster's nodes: the parent down, each child at least half a cell thick up.
+// Empty when a node's thickest lateral is not among them.
+std::optional<std::vector<Limb>> cluster_limbs(const Cluster& cl) {
   std::vector<Limb> limbs;
-  for (const size_t j : members) {
-    const size_t p = static_cast<size_t>(nodes[j].stem);
-    limbs.push_back({nodes[j].stem, false, j, 0.0f, {}});
+  for (const size_t j : cl.members) {
+    const size_t p = static_cast<size_t>(cl.nodes[j].stem);
+    limbs.push_back({cl.nodes[j].stem, false, j, 0.0f, {}});
     bool thickest = false;
-    for (const int32_t c : children[p]) {
-      const float r = cones[static_cast<size_t>(c)].cone.base_radius_m;
-      if (r < 0.5f * h) continue;  // drawn by its tube alone
+    for (const int32_t c : cl.children[p]) {
+      const float r = cl.cones[static_cast<size_t>(c)].cone.base_radius_m;
+      if (r < 0.5f * cl.h) continue;  // drawn by its tube alone
       limbs.push_back({c, true, j, 0.0f, {}});
-      thickest = thickest || (is_lateral(model, static_cast<size_t>(c)) && r == nodes[j].lateral);
+      thickest = thickest || (is_lateral(cl.model, static_cast<size_t>(c)) && r == cl.nodes[j].lateral);
     }
-    if (!thickest) return out;
+    if (!thickest) return std::nullopt;
   }
-  const float gap = 1.5f * h;
-  for (Limb& l : limbs) l.cut = nodes[l.node].joint.reach_m + 0.5f * h;
+  return limbs;
+}
+
+// Whether limb i's cut (its ring, `gap` back toward the node) is clear: outside every blend and
+// at least two cells from the other limbs.
+bool cut_clear(const Cluster& cl, const std::vector<Limb>& limbs, size_t i, float gap) {
+  const Limb& l = limbs[i];
+  const Vec3 o = l.walk.ring - l.walk.dir * gap;
+  const Frame f = Frame::from_z(l.walk.dir);
+  bool clear = true;
+  for (int k = 0; k < 16 && clear; ++k) {
+    const float a = 2 * kPi * static_cast<float>(k) / 16;
+    const Vec3 x = o + l.walk.radius * (std::cos(a) * f.x + std::sin(a) * f.y);
+    for (const size_t j : cl.members)
+      if (glm::length(x - cl.nodes[j].joint.centre) < cl.nodes[j].joint.reach_m) clear = false;
+    for (size_t m = 0; m < limbs.size() && clear; ++m) {
+      if (m == i) continue;
+      for (const int32_t s : limbs[m].walk.stems) {
+        if (std::find(l.walk.stems.begin(), l.walk.stems.end(), s) != l.walk.stems.end()) continue;
+        const ConeDistance cd = cone_distance(x, cl.cones[static_cast<size_t>(s)].cone);
+        if (cd.d - cd.r < 2 * cl.h) clear = false;
+      }
+    }
+  }
+  return clear;
+}
+
+// Walks every limb out to its cut, pushing a cut a cell further out while it is not clear: Ok,
+// Join (another joint met, `out.join`) or Fails (a limb ends, or eight pushes do not clear them).
+ClusterLayout::Result walk_to_cuts(const Cluster& cl, std::vector<Limb>& limbs, float gap, ClusterLayout& out) {
+  using Result = ClusterLayout::Result;
   constexpr int kRounds = 8;
   for (int round = 0;; ++round) {
     for (Limb& l : limbs) {
-      l.walk = walk_limb(model, children, joint_of, nodes, member, l.start, l.up, l.cut + gap, ahead, 0.25f * h);
-      if (l.walk.end == PathWalk::End::Fails) return out;
+      l.walk = walk_limb(cl.model, cl.children, cl.joint_of, cl.nodes, cl.member, l.start, l.up, l.cut + gap, cl.ahead,
+                         0.25f * cl.h);
+      if (l.walk.end == PathWalk::End::Fails) return Result::Fails;
       if (l.walk.end == PathWalk::End::Other) {
-        out.result = Result::Join;
         out.join = l.walk.met;
-        return out;
+        return Result::Join;
       }
     }
-    // Push a cut out while its ring is in a blend or within two cells of another limb.
     bool moved = false;
     for (size_t i = 0; i < limbs.size(); ++i) {
       Limb& l = limbs[i];
       if (l.walk.end != PathWalk::End::Cut) continue;
-      const Vec3 o = l.walk.ring - l.walk.dir * gap;
-      const Frame f = Frame::from_z(l.walk.dir);
-      bool clear = true;
-      for (int k = 0; k < 16 && clear; ++k) {
-        const float a = 2 * kPi * static_cast<float>(k) / 16;
-        const Vec3 x = o + l.walk.radius * (std::cos(a) * f.x + std::sin(a) * f.y);
-        for (const size_t j : members)
-          if (glm::length(x - nodes[j].joint.centre) < nodes[j].joint.reach_m) clear = false;
-        for (size_t m = 0; m < limbs.size() && clear; ++m) {
-          if (m == i) continue;
-          for (const int32_t s : limbs[m].walk.stems) {
-            if (std::find(l.walk.stems.begin(), l.walk.stems.end(), s) != l.walk.stems.end()) continue;
-            const ConeDistance cd = cone_distance(x, cones[static_cast<size_t>(s)].cone);
-            if (cd.d - cd.r < 2 * h) clear = false;
-          }
-        }
-      }
-      if (!clear) {
-        l.cut += h;
+      if (!cut_clear(cl, limbs, i, gap)) {
+        l.cut += cl.h;
         moved = true;
       }
     }
-    if (!moved) break;
-    if (round == kRounds) return out;
+    if (!moved) return Result::Ok;
+    if (round == kRounds) return Result::Fails;
   }
-  std::vector<uint8_t> in_field(model.stems.size(), 0), in_side(model.stems.size(), 0);
+}
+
+// The stems the limbs run through (out.field) and those they run through whole (out.inside,
+// flagged in `in_side`).
+void limb_stems(const Cluster& cl, const std::vector<Limb>& limbs, ClusterLayout& out, std::vector<uint8_t>& in_side) {
+  std::vector<uint8_t> in_field(cl.model.stems.size(), 0);
+  in_side.assign(cl.model.stems.size(), 0);
   for (const Limb& l : limbs) {
     for (const int32_t s : l.walk.stems)
       if (!in_field[static_cast<size_t>(s)]++) out.field.push_back(s);
@@ -202,38 +225,83 @@ ClusterLayout layout_cluster(const std::vector<size_t>& members, const TreeModel
     for (size_t k = 0; k < whole; ++k)
       if (!in_side[static_cast<size_t>(l.walk.stems[k])]++) out.inside.push_back(l.walk.stems[k]);
   }
-  if (out.field.size() > 16) return out;
+}
+
+// The box holding the nodes' cubes and the limbs inside, two cells to spare.
+void cluster_box(const Cluster& cl, ClusterLayout& out) {
   out.lo = Vec3(std::numeric_limits<float>::infinity());
   out.hi = -out.lo;
-  for (const size_t j : members) {
-    out.lo = glm::min(out.lo, nodes[j].joint.centre - Vec3(nodes[j].half));
-    out.hi = glm::max(out.hi, nodes[j].joint.centre + Vec3(nodes[j].half));
+  for (const size_t j : cl.members) {
+    out.lo = glm::min(out.lo, cl.nodes[j].joint.centre - Vec3(cl.nodes[j].half));
+    out.hi = glm::max(out.hi, cl.nodes[j].joint.centre + Vec3(cl.nodes[j].half));
   }
   for (const int32_t s : out.inside) {
-    out.lo = glm::min(out.lo, cones[static_cast<size_t>(s)].lo - Vec3(2 * h));
-    out.hi = glm::max(out.hi, cones[static_cast<size_t>(s)].hi + Vec3(2 * h));
+    out.lo = glm::min(out.lo, cl.cones[static_cast<size_t>(s)].lo - Vec3(2 * cl.h));
+    out.hi = glm::max(out.hi, cl.cones[static_cast<size_t>(s)].hi + Vec3(2 * cl.h));
   }
+}
+
+// Each cut limb's JointCut, the box grown to hold its cylinder; false when a ring lies on a stem
+// another limb runs through whole (it would be trimmed away).
+bool add_cuts(const Cluster& cl, const std::vector<Limb>& limbs, const std::vector<uint8_t>& in_side, float gap,
+              ClusterLayout& out) {
   for (const Limb& l : limbs) {
     if (l.walk.end != PathWalk::End::Cut) continue;
-    // A ring on a stem another limb runs through whole would be trimmed away.
-    if (in_side[static_cast<size_t>(l.walk.stems.back())]) return out;
+    if (in_side[static_cast<size_t>(l.walk.stems.back())]) return false;
     JointCut cut;
     cut.stem = l.walk.stems.back();
     cut.ring_arc_m = l.walk.ring_arc;
     cut.toward_tip = l.up;
     cut.origin = l.walk.ring - l.walk.dir * gap;
     cut.normal = l.walk.dir;
-    cut.radius_m = 1.25f * l.walk.radius + h;
+    cut.radius_m = 1.25f * l.walk.radius + cl.h;
     cut.gap_m = gap;
     // The box holds the cut's cylinder with two cells to spare.
     for (int a = 0; a < 3; ++a) {
-      const float across = cut.radius_m * std::sqrt(std::max(0.0f, 1 - cut.normal[a] * cut.normal[a])) + 2 * h;
+      const float across = cut.radius_m * std::sqrt(std::max(0.0f, 1 - cut.normal[a] * cut.normal[a])) + 2 * cl.h;
       out.lo[a] = std::min(out.lo[a], cut.origin[a] - across);
       out.hi[a] = std::max(out.hi[a], cut.origin[a] + across);
     }
     out.cuts.push_back(std::move(cut));
   }
-  out.cell = h;
+  return true;
+}
+
+}  // namespace
+
+ClusterLayout layout_cluster(const std::vector<size_t>& members, const TreeModel& model,
+                             const std::vector<std::vector<int32_t>>& children, const std::vector<int32_t>& joint_of,
+                             const std::vector<NodeJoint>& nodes, const std::vector<StemCone>& cones, float ahead) {
+  using Result = ClusterLayout::Result;
+  Cluster cl{members,
+             model,
+             children,
+             joint_of,
+             nodes,
+             cones,
+             ahead,
+             std::numeric_limits<float>::infinity(),
+             std::vector<uint8_t>(nodes.size(), 0)};
+  for (const size_t j : members) {
+    cl.h = std::min(cl.h, nodes[j].cell);
+    cl.member[j] = 1;
+  }
+  ClusterLayout out;
+  std::optional<std::vector<Limb>> limbs = cluster_limbs(cl);
+  if (!limbs) return out;
+  const float gap = 1.5f * cl.h;
+  for (Limb& l : *limbs) l.cut = nodes[l.node].joint.reach_m + 0.5f * cl.h;
+  const Result walked = walk_to_cuts(cl, *limbs, gap, out);
+  if (walked != Result::Ok) {
+    out.result = walked;
+    return out;
+  }
+  std::vector<uint8_t> in_side;
+  limb_stems(cl, *limbs, out, in_side);
+  if (out.field.size() > 16) return out;
+  cluster_box(cl, out);
+  if (!add_cuts(cl, *limbs, in_side, gap, out)) return out;
+  out.cell = cl.h;
   out.result = Result::Ok;
   return out;
 }

@@ -10,8 +10,7 @@
 
 namespace sylva {
 
-using namespace surface_detail;
-
+namespace surface_detail {
 namespace {
 
 // The cones near a node, the node's own limbs first (blended_cones reads at most 16): the field of
@@ -174,18 +173,15 @@ TreeModel with_rings(const TreeModel& model, const std::vector<JointCut>& cuts) 
   return out;
 }
 
-}  // namespace
-
-HartBakerJoints plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface,
-                                       const TreeMeshOptions& options) {
-  const size_t count = model.stems.size();
-  std::vector<StemCone> cones(count);
-  for (size_t s = 0; s < count; ++s) cones[s] = stem_cone(model, s);
-  const std::vector<std::vector<int32_t>> children = stem_children(model);
-  std::vector<int32_t> joint_of(count, -1);
+// The joints' nodes: every stem whose thickest lateral is at least joint_min_radius_m thick, its
+// blend (centre at the parent's tip, reach and fillet from the surface's factors) and closed cube.
+// `joint_of` gets each stem's joint (−1: none), `ahead` the furthest any joint's limbs are cut.
+std::vector<NodeJoint> node_joints(const TreeModel& model, const HartBakerSurface& surface,
+                                   const std::vector<StemCone>& cones,
+                                   const std::vector<std::vector<int32_t>>& children, std::vector<int32_t>& joint_of,
+                                   float& ahead) {
   std::vector<NodeJoint> nodes;
-  float ahead = 0;
-  for (size_t p = 0; p < count; ++p) {
+  for (size_t p = 0; p < cones.size(); ++p) {
     float lateral = 0;
     for (const int32_t c : children[p])
       if (is_lateral(model, static_cast<size_t>(c)))
@@ -208,57 +204,102 @@ HartBakerJoints plan_hart_baker_joints(const TreeModel& model, const HartBakerSu
     joint_of[p] = static_cast<int32_t>(nodes.size());
     nodes.push_back(n);
   }
-  // Clusters: joints whose limbs meet before both are cut, or whose trims would overlap, are laid
-  // out together (union–find, the least index the root).
-  std::vector<size_t> root(nodes.size());
-  for (size_t j = 0; j < nodes.size(); ++j) root[j] = j;
-  auto find = [&](size_t j) {
+  return nodes;
+}
+
+// Union–find over the joints, the least index the root.
+struct JointSets {
+  std::vector<size_t> root;
+
+  explicit JointSets(size_t n) : root(n) {
+    for (size_t j = 0; j < n; ++j) root[j] = j;
+  }
+  size_t find(size_t j) {
     while (root[j] != j) j = root[j] = root[root[j]];
     return j;
-  };
-  auto unite = [&](size_t a, size_t b) {
+  }
+  void unite(size_t a, size_t b) {
     a = find(a), b = find(b);
     if (a != b) root[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Unites the clusters whose layouts trim the same stretch of a tube; whether any were.
+bool unite_overlapping_trims(const std::vector<ClusterLayout>& layouts, size_t stems, JointSets& sets) {
+  struct Trim {
+    size_t cluster;
+    float lo, hi;
   };
-  constexpr size_t kMostJoints = 8;
+  std::vector<std::vector<Trim>> trims(stems);
+  constexpr float kAll = std::numeric_limits<float>::infinity();
+  for (size_t c = 0; c < layouts.size(); ++c) {
+    if (layouts[c].result != ClusterLayout::Result::Ok) continue;
+    for (const int32_t s : layouts[c].inside) trims[static_cast<size_t>(s)].push_back({c, -kAll, kAll});
+    for (const JointCut& cut : layouts[c].cuts)
+      trims[static_cast<size_t>(cut.stem)].push_back(
+          {c, cut.toward_tip ? -kAll : cut.ring_arc_m, cut.toward_tip ? cut.ring_arc_m : kAll});
+  }
+  bool changed = false;
+  for (const std::vector<Trim>& on : trims)
+    for (size_t a = 0; a < on.size(); ++a)
+      for (size_t b = a + 1; b < on.size(); ++b)
+        if (on[a].cluster != on[b].cluster && on[a].lo <= on[b].hi && on[b].lo <= on[a].hi) {
+          sets.unite(on[a].cluster, on[b].cluster);
+          changed = true;
+        }
+  return changed;
+}
+
+// The joints' clusters (members by root) and their layouts.
+struct Clusters {
   std::vector<std::vector<size_t>> members;
   std::vector<ClusterLayout> layouts;
+};
+
+// Clusters the joints: those whose limbs meet before both are cut, or whose trims would overlap,
+// are laid out together, until no layout asks for another joint and no trims overlap.
+Clusters cluster_joints(const TreeModel& model, const std::vector<std::vector<int32_t>>& children,
+                        const std::vector<int32_t>& joint_of, const std::vector<NodeJoint>& nodes,
+                        const std::vector<StemCone>& cones, float ahead) {
+  JointSets sets(nodes.size());
+  constexpr size_t kMostJoints = 8;
+  Clusters out;
   for (bool changed = true; changed;) {
     changed = false;
-    members.assign(nodes.size(), {});
-    for (size_t j = 0; j < nodes.size(); ++j) members[find(j)].push_back(j);
-    layouts.assign(nodes.size(), ClusterLayout{});
+    out.members.assign(nodes.size(), {});
+    for (size_t j = 0; j < nodes.size(); ++j) out.members[sets.find(j)].push_back(j);
+    out.layouts.assign(nodes.size(), ClusterLayout{});
     for (size_t c = 0; c < nodes.size(); ++c) {
-      if (members[c].empty() || members[c].size() > kMostJoints) continue;
-      layouts[c] = layout_cluster(members[c], model, children, joint_of, nodes, cones, ahead);
-      if (layouts[c].result == ClusterLayout::Result::Join) {
-        unite(c, static_cast<size_t>(layouts[c].join));
+      if (out.members[c].empty() || out.members[c].size() > kMostJoints) continue;
+      out.layouts[c] = layout_cluster(out.members[c], model, children, joint_of, nodes, cones, ahead);
+      if (out.layouts[c].result == ClusterLayout::Result::Join) {
+        sets.unite(c, static_cast<size_t>(out.layouts[c].join));
         changed = true;
       }
     }
     if (changed) continue;
     // Two clusters may not trim the same stretch of a tube.
-    struct Trim {
-      size_t cluster;
-      float lo, hi;
-    };
-    std::vector<std::vector<Trim>> trims(count);
-    constexpr float kAll = std::numeric_limits<float>::infinity();
-    for (size_t c = 0; c < nodes.size(); ++c) {
-      if (layouts[c].result != ClusterLayout::Result::Ok) continue;
-      for (const int32_t s : layouts[c].inside) trims[static_cast<size_t>(s)].push_back({c, -kAll, kAll});
-      for (const JointCut& cut : layouts[c].cuts)
-        trims[static_cast<size_t>(cut.stem)].push_back(
-            {c, cut.toward_tip ? -kAll : cut.ring_arc_m, cut.toward_tip ? cut.ring_arc_m : kAll});
-    }
-    for (const std::vector<Trim>& on : trims)
-      for (size_t a = 0; a < on.size(); ++a)
-        for (size_t b = a + 1; b < on.size(); ++b)
-          if (on[a].cluster != on[b].cluster && on[a].lo <= on[b].hi && on[b].lo <= on[a].hi) {
-            unite(on[a].cluster, on[b].cluster);
-            changed = true;
-          }
+    changed = unite_overlapping_trims(out.layouts, cones.size(), sets);
   }
+  return out;
+}
+
+}  // namespace
+}  // namespace surface_detail
+
+HartBakerJoints plan_hart_baker_joints(const TreeModel& model, const HartBakerSurface& surface,
+                                       const TreeMeshOptions& options) {
+  using namespace surface_detail;  // the internals (surface_detail.h)
+  const size_t count = model.stems.size();
+  std::vector<StemCone> cones(count);
+  for (size_t s = 0; s < count; ++s) cones[s] = stem_cone(model, s);
+  const std::vector<std::vector<int32_t>> children = stem_children(model);
+  std::vector<int32_t> joint_of(count, -1);
+  float ahead = 0;
+  const std::vector<NodeJoint> nodes = node_joints(model, surface, cones, children, joint_of, ahead);
+  const Clusters clusters = cluster_joints(model, children, joint_of, nodes, cones, ahead);
+  const std::vector<std::vector<size_t>>& members = clusters.members;
+  const std::vector<ClusterLayout>& layouts = clusters.layouts;
   // The tubes get their rings before the clusters are polygonised: a cluster's pieces are the
   // tubes' own, rings included.
   std::vector<JointCut> cuts;

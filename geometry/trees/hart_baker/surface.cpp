@@ -8,8 +8,7 @@
 
 namespace sylva {
 
-using namespace surface_detail;
-
+namespace surface_detail {
 namespace {
 
 // Where the shared mesher put a stem's tube in its stems mesh (make_tree_mesh's layout: a base
@@ -93,8 +92,10 @@ void add_joints(TriangleMesh& stems, const TreeModel& ringed, const std::vector<
 }
 
 }  // namespace
+}  // namespace surface_detail
 
 TreeMesh make_hart_baker_mesh(const TreeModel& model, const HartBakerParams& params, const TreeMeshOptions& options) {
+  using namespace surface_detail;  // the internals (surface_detail.h)
   if (!params.surface.blend) {
     TreeMesh mesh = make_tree_mesh(model, options);
     append_mesh(mesh.stems, hart_baker_bark(model, params));

@@ -5,7 +5,8 @@
 //   joint_cut.cpp     opening a joint at a cut and zipping it to the tube's ring;
 //   joint_layout.cpp  following the limbs out of a cluster of joints to their cuts;
 //   joint_plan.cpp    clustering, polygonising and ringing the joints (plan_hart_baker_joints);
-//   bark.cpp          the particle flow (§5.3) and the bark along it (§5.4);
+//   bark_flow.cpp     the particle flow over the limbs (§5.3);
+//   bark.cpp          the bark's relief along the flow (§5.4);
 //   surface.cpp       the mesh: tubes, joints and bark as one TreeMesh.
 
 #include "geometry/trees/hart_baker/surface.h"
