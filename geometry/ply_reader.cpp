@@ -346,6 +346,7 @@ struct VertexSlots {
   bool has_uvs = false;
 };
 
+// The vertex element's slots: x, y and z required, normals and a uv pair (four spellings) if all there.
 VertexSlots vertex_slots(const std::filesystem::path& file, const PlyElement& vertex) {
   VertexSlots vs;
   std::array<int, 8>& slot = vs.slot;

@@ -120,6 +120,7 @@ std::optional<BarkSite> bark_site(const BarkLimbs& limbs, const BarkFlow& flow, 
   return BarkSite{at, n, along, across, *onto};
 }
 
+// Adds a vertex at p with normal n; its index.
 uint32_t add_vertex(TriangleMesh& mesh, const Vec3& p, const Vec3& n) {
   mesh.positions.push_back(p);
   mesh.normals.push_back(n);

@@ -99,6 +99,7 @@ struct ChildArcs {
   int32_t continuation = -1;  // the continuation's index among the children
 };
 
+// The arcs of stem s's ring its children `kids` take.
 ChildArcs child_arcs(const TreeModel& model, const std::vector<int32_t>& kids, const FlowRings& fr, size_t s) {
   float circumference_sum = 0;
   for (const int32_t ch : kids) circumference_sum += fr.cones[static_cast<size_t>(ch)].base_radius_m;
