@@ -339,6 +339,123 @@ int find_property(const PlyElement& e, std::string_view name) {
   return -1;
 }
 
+// Which vertex property feeds which attribute slot: x y z, nx ny nz, u v.
+struct VertexSlots {
+  std::array<int, 8> slot;
+  bool has_normals = false;
+  bool has_uvs = false;
+};
+
+// The vertex element's slots: x, y and z required, normals and a uv pair (four spellings) if all there.
+VertexSlots vertex_slots(const std::filesystem::path& file, const PlyElement& vertex) {
+  VertexSlots vs;
+  std::array<int, 8>& slot = vs.slot;
+  slot.fill(-1);
+  const std::array<const char*, 6> xyz_n{"x", "y", "z", "nx", "ny", "nz"};
+  for (size_t s = 0; s < xyz_n.size(); ++s) slot[s] = find_property(vertex, xyz_n[s]);
+  if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0)
+    throw ParseError(file, vertex.line, "expected scalar properties x, y and z in 'element vertex'");
+  vs.has_normals = slot[3] >= 0 && slot[4] >= 0 && slot[5] >= 0;
+  for (const auto& [u, v] : {std::pair{"u", "v"}, std::pair{"s", "t"}, std::pair{"texture_u", "texture_v"},
+                             std::pair{"texture_s", "texture_t"}}) {
+    if (vs.has_uvs) break;
+    slot[6] = find_property(vertex, u);
+    slot[7] = find_property(vertex, v);
+    vs.has_uvs = slot[6] >= 0 && slot[7] >= 0;
+  }
+  return vs;
+}
+
+// The index of the face element's vertex-index list, checked to be of an integer type.
+int face_index_list(const std::filesystem::path& file, const PlyElement& e) {
+  int index_list = -1;
+  for (size_t i = 0; i < e.properties.size(); ++i)
+    if (e.properties[i].is_list && (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
+      index_list = static_cast<int>(i);
+  if (index_list < 0) throw ParseError(file, e.line, "expected a list property 'vertex_indices' in 'element face'");
+  if (!ply_type_is_integer(e.properties[static_cast<size_t>(index_list)].type))
+    throw ParseError(file, e.line, "expected an integer type for the face vertex indices");
+  return index_list;
+}
+
+// Reads the data section's elements into a mesh.
+struct PlyMeshReader {
+  PlyData& data;
+  const PlyElement* vertex;
+  VertexSlots slots;
+  uint64_t vertex_count;
+  TriangleMesh mesh;
+  std::vector<uint32_t> polygon;
+
+  // Face k's polygon of n vertex indices (list property `prop` of element e), fanned into triangles.
+  void read_polygon(const PlyElement& e, const PlyProperty& prop, uint64_t k, uint64_t n) {
+    if (n < 3)
+      data.fail("expected at least 3 vertex indices in " + e.name + " " + std::to_string(k) + ", found " +
+                std::to_string(n));
+    polygon.clear();
+    for (uint64_t j = 0; j < n; ++j) {
+      const double idx = data.read(prop.type, ValueName{"a vertex index in ", prop.name, e.name, k});
+      if (idx < 0 || idx >= static_cast<double>(vertex_count))
+        data.fail("vertex index " + std::to_string(static_cast<int64_t>(idx)) + " in " + e.name + " " +
+                  std::to_string(k) + " out of range (" + std::to_string(vertex_count) + " vertices)");
+      polygon.push_back(static_cast<uint32_t>(idx));
+    }
+    for (size_t j = 1; j + 1 < polygon.size(); ++j) mesh.triangles.push_back({polygon[0], polygon[j], polygon[j + 1]});
+  }
+
+  // Instance k of element e: its properties in order, a vertex's into `values` by slot.
+  void read_instance(const PlyElement& e, uint64_t k, int index_list, std::array<double, 8>& values) {
+    const bool is_vertex = &e == vertex;
+    for (size_t pi = 0; pi < e.properties.size(); ++pi) {
+      const PlyProperty& prop = e.properties[pi];
+      auto what = [&](const char* part) { return ValueName{part, prop.name, e.name, k}; };
+      if (prop.is_list) {
+        const double count = data.read(prop.count_type, what("the list length of "));
+        if (count < 0) data.fail("expected a non-negative list length for " + what("").str());
+        const auto n = static_cast<uint64_t>(count);
+        if (static_cast<int>(pi) != index_list) {
+          data.skip(prop.type, n, what("the items of "));
+          continue;
+        }
+        read_polygon(e, prop, k, n);
+        continue;
+      }
+      const double v = data.read(prop.type, what(""));
+      if (!is_vertex) continue;
+      for (size_t s = 0; s < slots.slot.size(); ++s) {
+        if (slots.slot[s] != static_cast<int>(pi)) continue;
+        if (!std::isfinite(static_cast<float>(v))) data.fail("expected a finite float value for " + what("").str());
+        values[s] = v;
+      }
+    }
+  }
+
+  // Every instance of element e; `reserve_cap` bounds what its count may reserve.
+  void read_element(const std::filesystem::path& file, const PlyElement& e, uint64_t reserve_cap) {
+    if (e.properties.empty()) return;  // nothing stored per instance
+    const bool is_vertex = &e == vertex;
+    const bool is_face = e.name == "face";
+    const int index_list = is_face ? face_index_list(file, e) : -1;
+    if (is_vertex) {
+      const size_t n = static_cast<size_t>(std::min(e.count, reserve_cap));
+      mesh.positions.reserve(n);
+      if (slots.has_normals) mesh.normals.reserve(n);
+      if (slots.has_uvs) mesh.uvs.reserve(n);
+    }
+    if (is_face) mesh.triangles.reserve(static_cast<size_t>(std::min(e.count, reserve_cap)));
+    std::array<double, 8> values{};
+    for (uint64_t k = 0; k < e.count; ++k) {
+      read_instance(e, k, index_list, values);
+      if (is_vertex) {
+        auto f = [&](size_t s) { return static_cast<float>(values[s]); };
+        mesh.positions.push_back({f(0), f(1), f(2)});
+        if (slots.has_normals) mesh.normals.push_back({f(3), f(4), f(5)});
+        if (slots.has_uvs) mesh.uvs.push_back({f(6), f(7)});
+      }
+    }
+  }
+};
+
 }  // namespace
 
 TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes) {
@@ -348,101 +465,18 @@ TriangleMesh parse_ply(const std::filesystem::path& file, std::string_view bytes
   for (const PlyElement& e : h.elements)
     if (e.name == "vertex") vertex = &e;
   if (vertex == nullptr) throw ParseError(file, 0, "expected an 'element vertex' in the PLY header");
-
-  // Which vertex property feeds which attribute slot: x y z, nx ny nz, u v.
-  std::array<int, 8> slot;
-  slot.fill(-1);
-  const std::array<const char*, 6> xyz_n{"x", "y", "z", "nx", "ny", "nz"};
-  for (size_t s = 0; s < xyz_n.size(); ++s) slot[s] = find_property(*vertex, xyz_n[s]);
-  if (slot[0] < 0 || slot[1] < 0 || slot[2] < 0)
-    throw ParseError(file, vertex->line, "expected scalar properties x, y and z in 'element vertex'");
-  const bool has_normals = slot[3] >= 0 && slot[4] >= 0 && slot[5] >= 0;
-  bool has_uvs = false;
-  for (const auto& [u, v] : {std::pair{"u", "v"}, std::pair{"s", "t"}, std::pair{"texture_u", "texture_v"},
-                             std::pair{"texture_s", "texture_t"}}) {
-    if (has_uvs) break;
-    slot[6] = find_property(*vertex, u);
-    slot[7] = find_property(*vertex, v);
-    has_uvs = slot[6] >= 0 && slot[7] >= 0;
-  }
+  const VertexSlots slots = vertex_slots(file, *vertex);
   const uint64_t vertex_count = vertex->count;
   if (vertex_count > std::numeric_limits<uint32_t>::max())
     throw ParseError(file, vertex->line, "expected at most 2^32 - 1 vertices");
 
   PlyData data(file, bytes, h);
-  TriangleMesh mesh;
-  std::vector<uint32_t> polygon;
+  PlyMeshReader reader{data, vertex, slots, vertex_count, {}, {}};
   // No value takes less than one byte, so the data size bounds what a count can honestly claim.
   const uint64_t reserve_cap = data.remaining();
-
-  for (const PlyElement& e : h.elements) {
-    if (e.properties.empty()) continue;  // nothing stored per instance
-    const bool is_vertex = &e == vertex;
-    const bool is_face = e.name == "face";
-    int index_list = -1;
-    if (is_face) {
-      for (size_t i = 0; i < e.properties.size(); ++i)
-        if (e.properties[i].is_list &&
-            (e.properties[i].name == "vertex_indices" || e.properties[i].name == "vertex_index"))
-          index_list = static_cast<int>(i);
-      if (index_list < 0) throw ParseError(file, e.line, "expected a list property 'vertex_indices' in 'element face'");
-      if (!ply_type_is_integer(e.properties[index_list].type))
-        throw ParseError(file, e.line, "expected an integer type for the face vertex indices");
-    }
-    if (is_vertex) {
-      const size_t n = static_cast<size_t>(std::min(e.count, reserve_cap));
-      mesh.positions.reserve(n);
-      if (has_normals) mesh.normals.reserve(n);
-      if (has_uvs) mesh.uvs.reserve(n);
-    }
-    if (is_face) mesh.triangles.reserve(static_cast<size_t>(std::min(e.count, reserve_cap)));
-
-    std::array<double, 8> values{};
-    for (uint64_t k = 0; k < e.count; ++k) {
-      for (size_t pi = 0; pi < e.properties.size(); ++pi) {
-        const PlyProperty& prop = e.properties[pi];
-        auto what = [&](const char* part) { return ValueName{part, prop.name, e.name, k}; };
-        if (prop.is_list) {
-          const double count = data.read(prop.count_type, what("the list length of "));
-          if (count < 0) data.fail("expected a non-negative list length for " + what("").str());
-          const auto n = static_cast<uint64_t>(count);
-          if (static_cast<int>(pi) != index_list) {
-            data.skip(prop.type, n, what("the items of "));
-            continue;
-          }
-          if (n < 3)
-            data.fail("expected at least 3 vertex indices in " + e.name + " " + std::to_string(k) + ", found " +
-                      std::to_string(n));
-          polygon.clear();
-          for (uint64_t j = 0; j < n; ++j) {
-            const double idx = data.read(prop.type, what("a vertex index in "));
-            if (idx < 0 || idx >= static_cast<double>(vertex_count))
-              data.fail("vertex index " + std::to_string(static_cast<int64_t>(idx)) + " in " + e.name + " " +
-                        std::to_string(k) + " out of range (" + std::to_string(vertex_count) + " vertices)");
-            polygon.push_back(static_cast<uint32_t>(idx));
-          }
-          for (size_t j = 1; j + 1 < polygon.size(); ++j)
-            mesh.triangles.push_back({polygon[0], polygon[j], polygon[j + 1]});
-          continue;
-        }
-        const double v = data.read(prop.type, what(""));
-        if (!is_vertex) continue;
-        for (size_t s = 0; s < slot.size(); ++s) {
-          if (slot[s] != static_cast<int>(pi)) continue;
-          if (!std::isfinite(static_cast<float>(v))) data.fail("expected a finite float value for " + what("").str());
-          values[s] = v;
-        }
-      }
-      if (is_vertex) {
-        auto f = [&](size_t s) { return static_cast<float>(values[s]); };
-        mesh.positions.push_back({f(0), f(1), f(2)});
-        if (has_normals) mesh.normals.push_back({f(3), f(4), f(5)});
-        if (has_uvs) mesh.uvs.push_back({f(6), f(7)});
-      }
-    }
-  }
+  for (const PlyElement& e : h.elements) reader.read_element(file, e, reserve_cap);
   data.finish();
-  return mesh;
+  return std::move(reader.mesh);
 }
 
 }  // namespace sylva::mesh_io_detail

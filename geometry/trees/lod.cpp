@@ -107,20 +107,20 @@ double leaf_outline_area(const LeafQuads& quads) {
   return area;
 }
 
-TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMeshOptions& options, float r2) {
-  TreeLod out;
-  out.r2 = r2;
-  const LodNumbers numbers = lod_numbers(r2);
+namespace {
+
+// A segment's or leaf's role: a tube (or quad), a line (or disc), or skipped.
+enum Role : uint8_t { kSkip = 0, kLine = 1, kTube = 2 };
+
+// Each segment's role, per stem: of every mass the first `polygons` are tubes and the next, up to
+// `lines`, are lines: an element is drawn once, by the finer primitive. Fills out's segment counts
+// and its lines' radius scale.
+std::vector<std::vector<uint8_t>> segment_roles(const TreeModel& model, const LodNumbers& numbers, TreeLod& out) {
   const TreeStems& stems = model.stems;
   const StemSections& sec = model.sections;
-
   // Segments per item, in stem order then along the stem (the order they were made).
   for (size_t s = 0; s < stems.size(); ++s)
     if (stems.section_count[s] >= 2) out.counts.segments[stem_item(stems.level[s])] += stems.section_count[s] - 1;
-
-  // Each segment's role: 2 = tube, 1 = line, 0 = skipped. Of every mass the first `polygons` are
-  // tubes and the next, up to `lines`, are lines: an element is drawn once, by the finer primitive.
-  enum Role : uint8_t { kSkip = 0, kLine = 1, kTube = 2 };
   std::vector<std::vector<uint8_t>> roles(stems.size());
   std::array<size_t, kLodStemItems> next{};
   std::array<double, kLodStemItems> area_all{}, area_tube{}, area_line{};
@@ -151,10 +151,14 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
   for (int item = 0; item < kLodStemItems; ++item)
     if (area_line[item] > 0)
       out.line_radius_scale[item] = static_cast<float>((area_all[item] - area_tube[item]) / area_line[item]);
+  return roles;
+}
 
-  // Tubes: every run of consecutive tube segments becomes a stem of its own over the same sections.
+// The tubes: every run of consecutive tube segments as a stem of its own over the same sections.
+TreeModel tube_runs(const TreeModel& model, const std::vector<std::vector<uint8_t>>& roles) {
+  const TreeStems& stems = model.stems;
   TreeModel runs;
-  runs.sections = sec;
+  runs.sections = model.sections;
   TreeStems& rs = runs.stems;
   for (size_t s = 0; s < stems.size(); ++s) {
     const std::vector<uint8_t>& role = roles[s];
@@ -179,12 +183,14 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
       j = end;
     }
   }
-  TreeMeshOptions tube_options = options;
-  tube_options.leaves = false;
-  out.mesh = make_tree_mesh(runs, tube_options);
-  runs = TreeModel{};
+  return runs;
+}
 
-  // Lines: one straight round Bézier per segment, radius tapering along it.
+// The lines: one straight round Bézier per line segment, radius tapering along it, widened.
+void add_lines(const TreeModel& model, const std::vector<std::vector<uint8_t>>& roles, const TreeMeshOptions& options,
+               TreeLod& out) {
+  const TreeStems& stems = model.stems;
+  const StemSections& sec = model.sections;
   out.lines.round = true;
   out.dead_lines.round = true;
   for (size_t s = 0; s < stems.size(); ++s) {
@@ -201,32 +207,49 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
       }
     }
   }
+}
 
-  // Leaves: masses of 4 in the model's order; the first `leaf_polygons` of a mass stay quads, the
-  // next, up to `leaf_points` (at least kLodMinLeafPoints), become discs. Per material slot, the kept leaves are
-  // enlarged about the petiole by √(full area / kept area).
-  const LeafQuads& quads = mesh.leaves;
+// The leaves' roles (kTube: quad, kLine: disc) and, per material slot, how much the kept leaves
+// are enlarged.
+struct LeafRoles {
+  std::vector<uint8_t> role;
+  std::vector<float> scale;
+};
+
+// Masses of 4 in the model's order: the first `leaf_polygons` of a mass stay quads, the next, up
+// to `leaf_points` (at least kLodMinLeafPoints), become discs; per material slot, the kept leaves
+// are enlarged about the petiole by √(full area / kept area).
+LeafRoles leaf_roles(const TreeModel& model, const LeafQuads& quads, const LodNumbers& numbers) {
   const size_t n = quads.size();
-  out.counts.leaves = n;
-  std::vector<uint8_t> role(n);
+  LeafRoles out{std::vector<uint8_t>(n), {}};
   std::vector<double> slot_all, slot_kept;
-  const auto slot_of = [&](size_t i) { return i < model.leaves.size() ? model.leaves.material_of(i) : uint8_t{0}; };
   for (size_t i = 0; i < n; ++i) {
     const bool quad = lod_is_drawn(i, n, numbers.leaf_polygons, kLodLeafMassSize);
     const bool point = lod_is_drawn(i, n, std::max(numbers.leaf_points, kLodMinLeafPoints), kLodLeafMassSize);
-    role[i] = quad ? kTube : point ? kLine : kSkip;
-    const size_t slot = slot_of(i);
+    out.role[i] = quad ? kTube : point ? kLine : kSkip;
+    const size_t slot = i < model.leaves.size() ? model.leaves.material_of(i) : uint8_t{0};
     if (slot >= slot_all.size()) {
       slot_all.resize(slot + 1, 0.0);
       slot_kept.resize(slot + 1, 0.0);
     }
     const double a = static_cast<double>(leaf_quad_area(quads, i)) * leaf_shape_coverage(quads.shapes[i]);
     slot_all[slot] += a;
-    if (role[i] != kSkip) slot_kept[slot] += a;
+    if (out.role[i] != kSkip) slot_kept[slot] += a;
   }
-  std::vector<float> scale(slot_all.size(), 1.0f);
-  for (size_t s = 0; s < scale.size(); ++s)
-    if (slot_kept[s] > 0) scale[s] = static_cast<float>(std::sqrt(slot_all[s] / slot_kept[s]));
+  out.scale.assign(slot_all.size(), 1.0f);
+  for (size_t s = 0; s < out.scale.size(); ++s)
+    if (slot_kept[s] > 0) out.scale[s] = static_cast<float>(std::sqrt(slot_all[s] / slot_kept[s]));
+  return out;
+}
+
+// The kept leaves, enlarged: quads into out.mesh, discs into out.discs.
+void add_leaves(const TreeModel& model, const LeafQuads& quads, const LodNumbers& numbers, TreeLod& out) {
+  const size_t n = quads.size();
+  out.counts.leaves = n;
+  const LeafRoles roles = leaf_roles(model, quads, numbers);
+  const std::vector<uint8_t>& role = roles.role;
+  const std::vector<float>& scale = roles.scale;
+  const auto slot_of = [&](size_t i) { return i < model.leaves.size() ? model.leaves.material_of(i) : uint8_t{0}; };
   if (!scale.empty()) out.leaf_scale = scale[0];
   for (size_t i = 0; i < n; ++i) {
     if (role[i] == kSkip) continue;
@@ -248,6 +271,20 @@ TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMe
       ++out.counts.leaf_discs;
     }
   }
+}
+
+}  // namespace
+
+TreeLod make_tree_lod(const TreeModel& model, const TreeMesh& mesh, const TreeMeshOptions& options, float r2) {
+  TreeLod out;
+  out.r2 = r2;
+  const LodNumbers numbers = lod_numbers(r2);
+  const std::vector<std::vector<uint8_t>> roles = segment_roles(model, numbers, out);
+  TreeMeshOptions tube_options = options;
+  tube_options.leaves = false;
+  out.mesh = make_tree_mesh(tube_runs(model, roles), tube_options);
+  add_lines(model, roles, options, out);
+  add_leaves(model, mesh.leaves, numbers, out);
   return out;
 }
 

@@ -214,15 +214,16 @@ HartBakerTree make_hart_baker_seedling(const HartBakerParams& params, uint64_t s
   return t;
 }
 
-GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& params,
-                                  const std::vector<float>& light_m2) {
-  const LimbSums s = compute_limb_sums(tree, params, light_m2);
+namespace {
+
+// Grows every living limb by the year's mass (eq. 16–22): the trunk's radius first, then each limb
+// thicker and longer by its share, passing the rest to its children.
+void allot_mass(HartBakerTree& tree, const HartBakerParams& params, const LimbSums& s, GrowthReport& report) {
   const size_t n = tree.size();
   const double d = params.wood_density_kg_m3;
   const double H = params.max_height_m;
   const double tau = params.tip_ratio;
   const std::vector<std::vector<int32_t>> children = tree.children();
-  GrowthReport report;
 
   // Eq. 16–17. "The first priority is that the trunk be allowed to support its own weight": its
   // new radius is eq. 16's, or more if needed to support the tree plus what the year's
@@ -236,7 +237,6 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
   report.mass_allotted_kg = e0;
 
   std::vector<double> e(n, 0.0);
-  std::vector<float> old_radius = tree.radius_m;
   e[0] = e0;
   for (size_t i = 0; i < n; ++i) {
     if (!tree.alive[i]) continue;
@@ -278,7 +278,12 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
       if (tree.alive[static_cast<size_t>(j)] && s.G[i] > 0.0)
         e[static_cast<size_t>(j)] = s.G[static_cast<size_t>(j)] / s.G[i] * e_rest;
   }
+}
 
+// Adds the year's reaction wood to every living limb (§5.1) and records its growth ring.
+void add_reaction_wood(HartBakerTree& tree, const HartBakerParams& params, const LimbSums& s,
+                       const std::vector<float>& old_radius) {
+  const size_t n = tree.size();
   // Reaction wood (§5.1). δ_i of eq. 24–25 (reaction_wood_reach, on the grown radii: F_R is the
   // support of this year's base). The year's eccentric growth is reaction_wood·ΔR·min(1, δ_i/R_i) on
   // the side ŷ: towards the load for gymnosperms (compression wood below), away from it for
@@ -302,15 +307,18 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
     tree.ring_length_m[i].push_back(tree.length_m[i]);
     tree.ring_offset_m[i].push_back(tree.reaction_m[i]);
   }
+}
 
-  // Shedding (§4.1 "kills limbs that do not return sufficient photosynthetic nutrition"), from the
-  // tips inward: each limb's lit fraction is that of its own leaves (p_i over their area), smoothed
-  // ½ old + ½ new each year, a new limb starting from its parent's. A limb dies when it carries no
-  // living limb and its leaves are shaded below shed_light, or it has no leaves left; its parent
-  // is then judged in the same sweep (children have larger ids). So shaded twigs die, a branch dies
-  // once it is bare, and a branch that still carries lit shoots lives however shaded its base is.
-  // The trunk's axis is never shed (docs/hart_baker.md "Shedding").
-  ++tree.year;
+// Shedding (§4.1 "kills limbs that do not return sufficient photosynthetic nutrition"), from the
+// tips inward: each limb's lit fraction is that of its own leaves (p_i over their area), smoothed
+// ½ old + ½ new each year, a new limb starting from its parent's. A limb dies when it carries no
+// living limb and its leaves are shaded below shed_light, or it has no leaves left; its parent
+// is then judged in the same sweep (children have larger ids). So shaded twigs die, a branch dies
+// once it is bare, and a branch that still carries lit shoots lives however shaded its base is.
+// The trunk's axis is never shed (docs/hart_baker.md "Shedding").
+void shed_limbs(HartBakerTree& tree, const HartBakerParams& params, const LimbSums& s,
+                const std::vector<float>& light_m2, GrowthReport& report) {
+  const size_t n = tree.size();
   if (params.phototropism && !light_m2.empty()) {
     std::vector<int> living_children(n, 0);
     for (size_t i = 1; i < n; ++i)
@@ -327,11 +335,13 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
       }
     }
   }
+}
 
-  // The year's node at every shoot tip: a continuation shoot (same order, turned by up to
-  // apical_var_deg) and lateral buds that break with probability bud_break, at the branching
-  // angle, turned by the divergence angle each year (phyllotaxis) and spread evenly around the
-  // limb within a node.
+// The year's node at every shoot tip: a continuation shoot (same order, turned by up to
+// apical_var_deg) and lateral buds that break with probability bud_break, at the branching
+// angle, turned by the divergence angle each year (phyllotaxis) and spread evenly around the
+// limb within a node.
+void sprout_buds(HartBakerTree& tree, const HartBakerParams& params, GrowthReport& report) {
   const float branch = radians(params.branch_angle_deg);
   const float spread = radians(params.branch_angle_var_deg);
   const size_t before = tree.size();
@@ -367,6 +377,20 @@ GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& pa
       ++report.sprouted;
     }
   }
+}
+
+}  // namespace
+
+GrowthReport grow_hart_baker_year(HartBakerTree& tree, const HartBakerParams& params,
+                                  const std::vector<float>& light_m2) {
+  const LimbSums s = compute_limb_sums(tree, params, light_m2);
+  GrowthReport report;
+  const std::vector<float> old_radius = tree.radius_m;
+  allot_mass(tree, params, s, report);
+  add_reaction_wood(tree, params, s, old_radius);
+  ++tree.year;
+  shed_limbs(tree, params, s, light_m2, report);
+  sprout_buds(tree, params, report);
   return report;
 }
 

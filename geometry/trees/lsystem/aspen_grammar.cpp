@@ -71,18 +71,56 @@ class AspenGrower {
   }
 
  private:
+  // Where the walk along a <root> is: the point, the trunk's unbumped axis point, the direction,
+  // the last segment's direction, the divergence reference, the arc walked (units, nominal and
+  // actual), and the children's azimuths.
+  struct Walk {
+    Vec3 point, axis, dir, seg, ref;
+    float s = 0, arc = 0;
+    float shrinkage = 0;
+    int child_number = 0;
+    float azimuth = 0, previous_azimuth = 0;
+  };
+
   // One <root>: its <linear_pt>s, the children of their <circle_pt>s, and its <linear_tail>.
   void grow_root(const Pending& r) {
+    const int stem = begin_stem(r);
+    Pcg32 rng(hash_ids(seed_, 0xA59E4ull, static_cast<uint64_t>(stem)));
+    const bool trunk = r.generation == 0;
+    Walk w{r.base, r.base, r.dir, r.dir, across(r.dir, r.ref)};
+    w.shrinkage = trunk ? p_.trunk_shrinkage : p_.branch_shrinkage;
+    push_section(w, r.diameter);
+    w.azimuth = rng.uniform(0.0f, kTwoPi);
+    for (int n = 1; w.s < r.length; ++n) {
+      advance(r, w, n, rng);
+      const bool tip = w.s >= r.length;
+      const float d_here = diameter_at(r, w, std::min(w.s, r.length));
+      push_section(w, d_here);
+      if (tip) break;
+      if (p_.shoot_generation > 0 && r.generation >= p_.shoot_generation && !r.dead)
+        add_leaf_cluster(w.point, w.dir, stem, rng);
+      // Child branching (§ "Child Branching"): none past the last generation, on the trunk's
+      // first points or below the minimum diameter; otherwise a random choice.
+      if (r.generation >= p_.generations || r.dead) continue;
+      if (trunk && n < p_.first_trunk_point) continue;
+      if (d_here < p_.min_diameter) continue;
+      branch(r, w, stem, d_here, rng);
+    }
+    TreeStems& st = m_.stems;
+    st.section_count.back() = static_cast<uint32_t>(m_.sections.size()) - st.first_section.back();
+    if (r.dead) return;
+    if (trunk) return add_leaf_cluster(w.point, w.dir, stem, rng);  // the leader's tip
+    grow_tail(r, w, stem, rng);
+  }
+
+  // Adds <root> r's stem (no sections yet) and returns its index.
+  int begin_stem(const Pending& r) {
     const int stem = static_cast<int>(m_.stems.size());
     if (m_.stems.size() >= kMaxStems)
       throw Error("tree too large: more than " + std::to_string(kMaxStems) +
                   " stems (lower generations or branch_probability, or raise min_diameter)");
     if (trace_ != nullptr && r.record >= 0) trace_->children[static_cast<size_t>(r.record)].stem = stem;
-    Pcg32 rng(hash_ids(seed_, 0xA59E4ull, static_cast<uint64_t>(stem)));
     const float u = p_.unit_m;
-    const bool trunk = r.generation == 0;
-    const float shrinkage = trunk ? p_.trunk_shrinkage : p_.branch_shrinkage;
-
     TreeStems& st = m_.stems;
     st.level.push_back(static_cast<uint8_t>(std::min(r.generation, 255)));
     st.parent.push_back(r.parent);
@@ -95,111 +133,105 @@ class AspenGrower {
     st.lobes.push_back(0);
     st.lobe_depth.push_back(0);
     st.dead.push_back(r.dead ? 1 : 0);
+    return stem;
+  }
 
-    Vec3 point = r.base, axis = r.base, dir = r.dir, seg = r.dir, ref = across(r.dir, r.ref);
-    float s = 0, arc = 0;
-    // Eqs. 6.9, 6.10: the girth at arc s.
-    const auto diameter_at = [&](float at) { return r.diameter * (1.0f - shrinkage * at / r.length); };
-    const auto push_section = [&](float d) {
-      if (m_.sections.size() >= kMaxSections)
-        throw Error("tree too large: more than " + std::to_string(kMaxSections) +
-                    " cross-sections (raise point_spacing or lower height)");
-      m_.sections.positions.push_back(point * u);
-      const Vec3 x = across(seg, ref);
-      m_.sections.frames.push_back(Frame{x, glm::cross(seg, x), seg});
-      m_.sections.radius_m.push_back(0.5f * d * u);
-      m_.sections.arc_m.push_back(arc * u);
-    };
-    push_section(r.diameter);
+  // Eqs. 6.9, 6.10: the girth at arc `at`.
+  static float diameter_at(const Pending& r, const Walk& w, float at) {
+    return r.diameter * (1.0f - w.shrinkage * at / r.length);
+  }
 
-    int child_number = 0;
-    float azimuth = rng.uniform(0.0f, kTwoPi), previous_azimuth = 0;
-    for (int n = 1; s < r.length; ++n) {
-      const float d = diameter_at(s);
-      // "The distance between linear points is determined by the diameter of the object at this
-      // point plus the generation."
-      float step = std::max(p_.point_spacing * d + p_.point_spacing_generation * static_cast<float>(r.generation),
-                            1e-3f * r.length);
-      if (r.length - s < 1.25f * step) step = r.length - s;
-      // Self-adjustment (lifting): gravity sags the direction; a drooping one is lifted.
-      if (!trunk) {
-        dir.z -= p_.sag;
-        dir = dir.z < p_.droop_limit ? lift(dir, p_.droop_limit, ref) : glm::normalize(dir);
-      }
-      // Eq. 6.1: L(n+1) = L(n) + V × distance + B, the bump B every fifth point: the two minor
-      // components of the direction move by a random amount scaled by the diameter. The trunk's
-      // points stay about its axis ("linear points that are part of the trunk ... lie along the
-      // y axis"): its bumps are offsets from the axis, not turns.
-      axis += dir * step;
-      Vec3 next = trunk ? axis : point + dir * step;
-      if (p_.bump_every > 0 && n % p_.bump_every == 0) {
-        const Vec3 a = glm::abs(dir);
-        const int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-        for (int k = 0; k < 3; ++k)
-          if (k != major) next[k] += p_.bump * d * rng.symmetric();
-      }
-      const float moved_len = glm::length(next - point);
-      seg = (next - point) / moved_len;
-      if (!trunk) {
-        dir = seg;
-        if (dir.z < p_.droop_limit) {  // the bump may not undo the lifting
-          dir = seg = lift(dir, p_.droop_limit, ref);
-          next = point + dir * moved_len;
-        }
-      }
-      ref = across(dir, ref);
-      point = next;
-      s += step;
-      arc += moved_len;
-      const bool tip = s >= r.length;
-      const float d_here = diameter_at(std::min(s, r.length));
-      push_section(d_here);
-      if (tip) break;
-      if (p_.shoot_generation > 0 && r.generation >= p_.shoot_generation && !r.dead)
-        add_leaf_cluster(point, dir, stem, rng);
+  // A cross-section of diameter d at the walk's point.
+  void push_section(const Walk& w, float d) {
+    const float u = p_.unit_m;
+    if (m_.sections.size() >= kMaxSections)
+      throw Error("tree too large: more than " + std::to_string(kMaxSections) +
+                  " cross-sections (raise point_spacing or lower height)");
+    m_.sections.positions.push_back(w.point * u);
+    const Vec3 x = across(w.seg, w.ref);
+    m_.sections.frames.push_back(Frame{x, glm::cross(w.seg, x), w.seg});
+    m_.sections.radius_m.push_back(0.5f * d * u);
+    m_.sections.arc_m.push_back(w.arc * u);
+  }
 
-      // Child branching (§ "Child Branching"): none past the last generation, on the trunk's
-      // first points or below the minimum diameter; otherwise a random choice.
-      if (r.generation >= p_.generations || r.dead) continue;
-      if (trunk && n < p_.first_trunk_point) continue;
-      if (d_here < p_.min_diameter) continue;
-      // <linear_pt> -> <circle_pt>^8, <circle_pt> -> <bark> | <bark><root>: each of the eight
-      // circle points may carry a child object.
-      for (int circle_pt = 0; circle_pt < 8; ++circle_pt) {
-        const float choice = rng.uniform();
-        if (choice >= p_.branch_probability + p_.dead_probability) continue;
-        const bool dead = choice >= p_.branch_probability;
-        const int generation = r.generation + 1;
-        const int number = child_number + 1;
-        // Eq. 6.12 on the parent's length beyond the branch point (docs/lsystems.md).
-        float length = p_.length_ratio * (r.length - s) - static_cast<float>(number) * p_.length_child_term -
-                       static_cast<float>(generation) * p_.length_generation_term;
-        if (dead) length *= p_.dead_length;
-        length = std::max(length, p_.min_length);  // self-adjustment: "must be longer than 6.0"
-        child_number = number;
-        // Eq. 6.13.
-        const float ratio = 1.0f - rng.uniform(p_.diameter_contraction_min, p_.diameter_contraction_max);
-        // Eq. 6.14 (radians), never below the minimum angle.
-        const float angle = std::max(radians(p_.branch_angle_base_deg) - (p_.branch_angle_child_rad * number +
-                                                                          p_.branch_angle_generation_rad * generation),
-                                     p_.min_branch_angle_rad);
-        float step_deg = 0;
-        if (number > 1) {
-          step_deg = p_.divergence_deg + p_.divergence_noise_deg * rng.symmetric();
-          azimuth = previous_azimuth + radians(step_deg);
-        }
-        previous_azimuth = azimuth;
-        const Vec3 cdir = child_direction(dir, ref, angle, azimuth);
-        add_child(Pending{point, cdir, dir, ratio * d_here, length, generation, stem, arc, dead, -1},
-                  AspenChildRecord{0, stem, generation, number, dead, false, step_deg, angle, ratio, length});
+  // The walk to the n-th <linear_pt>: a step set by the girth, sagging and lifted (branches), bumped
+  // every bump_every points.
+  void advance(const Pending& r, Walk& w, int n, Pcg32& rng) const {
+    const bool trunk = r.generation == 0;
+    const float d = diameter_at(r, w, w.s);
+    // "The distance between linear points is determined by the diameter of the object at this
+    // point plus the generation."
+    float step = std::max(p_.point_spacing * d + p_.point_spacing_generation * static_cast<float>(r.generation),
+                          1e-3f * r.length);
+    if (r.length - w.s < 1.25f * step) step = r.length - w.s;
+    // Self-adjustment (lifting): gravity sags the direction; a drooping one is lifted.
+    if (!trunk) {
+      w.dir.z -= p_.sag;
+      w.dir = w.dir.z < p_.droop_limit ? lift(w.dir, p_.droop_limit, w.ref) : glm::normalize(w.dir);
+    }
+    // Eq. 6.1: L(n+1) = L(n) + V × distance + B, the bump B every fifth point: the two minor
+    // components of the direction move by a random amount scaled by the diameter. The trunk's
+    // points stay about its axis ("linear points that are part of the trunk ... lie along the
+    // y axis"): its bumps are offsets from the axis, not turns.
+    w.axis += w.dir * step;
+    Vec3 next = trunk ? w.axis : w.point + w.dir * step;
+    if (p_.bump_every > 0 && n % p_.bump_every == 0) {
+      const Vec3 a = glm::abs(w.dir);
+      const int major = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+      for (int k = 0; k < 3; ++k)
+        if (k != major) next[k] += p_.bump * d * rng.symmetric();
+    }
+    const float moved_len = glm::length(next - w.point);
+    w.seg = (next - w.point) / moved_len;
+    if (!trunk) {
+      w.dir = w.seg;
+      if (w.dir.z < p_.droop_limit) {  // the bump may not undo the lifting
+        w.dir = w.seg = lift(w.dir, p_.droop_limit, w.ref);
+        next = w.point + w.dir * moved_len;
       }
     }
-    st.section_count.back() = static_cast<uint32_t>(m_.sections.size()) - st.first_section.back();
-    if (r.dead) return;
-    if (trunk) return add_leaf_cluster(point, dir, stem, rng);  // the leader's tip
+    w.ref = across(w.dir, w.ref);
+    w.point = next;
+    w.s += step;
+    w.arc += moved_len;
+  }
 
-    // <linear_tail>: a fork (da Vinci's rule, eq. 6.8 with α = 2) or a leaf cluster.
-    const float d_tip = diameter_at(r.length);
+  // <linear_pt> -> <circle_pt>^8, <circle_pt> -> <bark> | <bark><root>: each of the eight circle
+  // points may carry a child object.
+  void branch(const Pending& r, Walk& w, int stem, float d_here, Pcg32& rng) {
+    for (int circle_pt = 0; circle_pt < 8; ++circle_pt) {
+      const float choice = rng.uniform();
+      if (choice >= p_.branch_probability + p_.dead_probability) continue;
+      const bool dead = choice >= p_.branch_probability;
+      const int generation = r.generation + 1;
+      const int number = w.child_number + 1;
+      // Eq. 6.12 on the parent's length beyond the branch point (docs/lsystems.md).
+      float length = p_.length_ratio * (r.length - w.s) - static_cast<float>(number) * p_.length_child_term -
+                     static_cast<float>(generation) * p_.length_generation_term;
+      if (dead) length *= p_.dead_length;
+      length = std::max(length, p_.min_length);  // self-adjustment: "must be longer than 6.0"
+      w.child_number = number;
+      // Eq. 6.13.
+      const float ratio = 1.0f - rng.uniform(p_.diameter_contraction_min, p_.diameter_contraction_max);
+      // Eq. 6.14 (radians), never below the minimum angle.
+      const float angle = std::max(radians(p_.branch_angle_base_deg) - (p_.branch_angle_child_rad * number +
+                                                                        p_.branch_angle_generation_rad * generation),
+                                   p_.min_branch_angle_rad);
+      float step_deg = 0;
+      if (number > 1) {
+        step_deg = p_.divergence_deg + p_.divergence_noise_deg * rng.symmetric();
+        w.azimuth = w.previous_azimuth + radians(step_deg);
+      }
+      w.previous_azimuth = w.azimuth;
+      const Vec3 cdir = child_direction(w.dir, w.ref, angle, w.azimuth);
+      add_child(Pending{w.point, cdir, w.dir, ratio * d_here, length, generation, stem, w.arc, dead, -1},
+                AspenChildRecord{0, stem, generation, number, dead, false, step_deg, angle, ratio, length});
+    }
+  }
+
+  // <linear_tail>: a fork (da Vinci's rule, eq. 6.8 with α = 2) or a leaf cluster.
+  void grow_tail(const Pending& r, const Walk& w, int stem, Pcg32& rng) {
+    const float d_tip = diameter_at(r, w, r.length);
     if (r.generation < p_.generations && d_tip >= p_.min_diameter && rng.uniform() < p_.fork_probability) {
       const float share = rng.uniform(0.3f, 0.7f);
       const float angle = std::max(radians(p_.branch_angle_base_deg) * 0.5f -
@@ -210,13 +242,13 @@ class AspenGrower {
       const float az = rng.uniform(0.0f, kTwoPi);
       for (int k = 0; k < 2; ++k) {
         const float d = d_tip * std::sqrt(k == 0 ? share : 1.0f - share);
-        const Vec3 cdir = child_direction(dir, ref, angle, az + kPi * static_cast<float>(k));
-        add_child(Pending{point, cdir, dir, d, length, r.generation + 1, stem, arc, false, -1},
+        const Vec3 cdir = child_direction(w.dir, w.ref, angle, az + kPi * static_cast<float>(k));
+        add_child(Pending{w.point, cdir, w.dir, d, length, r.generation + 1, stem, w.arc, false, -1},
                   AspenChildRecord{0, stem, r.generation + 1, 0, false, true, 0, angle, d / d_tip, length});
       }
       return;
     }
-    add_leaf_cluster(point, dir, stem, rng);
+    add_leaf_cluster(w.point, w.dir, stem, rng);
   }
 
   void add_child(Pending child, const AspenChildRecord& record) {
