@@ -7,6 +7,7 @@
 #include "core/image.h"
 #include "core/output_paths.h"
 #include "denoise/denoise_image.h"
+#include "pipeline/outputs.h"
 
 #include <fmt/core.h>
 
@@ -29,11 +30,11 @@ int run_denoise(const DenoiseOptions& opt) {
   write_exr(opt.exr, clean);
   if (!opt.png.empty()) {
     PreviewOptions preview;
-    preview.exposure_ev = opt.exposure;
     if (clean.find_channel("R") < 0) {
       const std::string grey = denoisable_channels(noisy).front();
       preview.channels = {grey, grey, grey};
     }
+    preview.exposure_ev = opt.exposure + auto_exposure_ev(clean, preview.channels);
     write_png_preview(opt.png, clean, preview);
   }
   if (!opt.quiet)
@@ -50,8 +51,9 @@ CommandRun add_denoise_command(CLI::App& parent) {
       "denoise", "Denoise a render made with --features: R, G, B and every band replaced, noisy.* kept");
   cmd->add_option("input", opt->input, "The noisy EXR (sylva render --features, or sylva merge of one)")->required();
   cmd->add_option("-o,--output", opt->exr, "Output EXR (written atomically)")->required();
-  cmd->add_option("--png", opt->png, "PNG preview of the denoised visible band (Standard view)");
-  cmd->add_option("--exposure", opt->exposure, "Preview exposure offset in stops")
+  cmd->add_option("--png", opt->png,
+                  "PNG preview of the denoised visible band (Standard view, median luminance at 18 % grey)");
+  cmd->add_option("--exposure", opt->exposure, "Preview exposure offset in stops, added to the automatic exposure")
       ->check(kFiniteNumber & CLI::Range(-64.0, 64.0));
   cmd->add_option("--threads", opt->settings.threads, "Worker threads (0 = all)")->check(CLI::Range(0, 4096));
   cmd->add_flag("-q,--quiet", opt->quiet, "No summary");
