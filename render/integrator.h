@@ -182,8 +182,6 @@ class Integrator {
   void advance(PathState& path, bool found, const RayHit& hit) const;
   void resolve_shadow(PathState& path, uint64_t& rays) const;
   void record_first_hit(const HitContext& si, const Bsdf& bsdf, float t, FirstHit* first) const;
-  // The turbid crown a hit is on, or nullptr.
-  const HalfSpaceSolid* turbid_solid(const RayHit& hit) const;
 };
 
 // Moves `p` off the surface along `n` (the side the new ray leaves to) by a few ulps scaled with
