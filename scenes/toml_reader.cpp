@@ -134,7 +134,8 @@ void apply_override(toml::table& document, const std::string& text) {
     }
     if (!is_bare_key(part)) fail(fmt::format("'{}' is not a key (letters, digits, '_' and '-', joined by dots)", path));
     if (!index) {
-      keys += (keys.empty() ? "" : ".") + std::string(part);
+      if (!keys.empty()) keys += '.';
+      keys += part;
       continue;
     }
     // The tables named before the list, which must exist (a list is not created by an override).

@@ -32,7 +32,8 @@ std::string render_chunks(const fs::path& dir, const std::string& tag, int n, co
                                  std::to_string(i) + "/" + std::to_string(n) + " --split " + split + kCommon + extra,
                              dir);
     EXPECT_EQ(r.exit_code, 0) << r.err;
-    parts += " " + q(part);
+    parts += ' ';
+    parts += q(part);
   }
   return parts;
 }
