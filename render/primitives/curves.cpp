@@ -38,8 +38,8 @@ RTCGeometry new_embree_curves(RTCDevice device, const CurveSet& cs) {
   for (size_t i = 0; i < cs.points.size(); ++i)
     for (int k = 0; k < 4; ++k) v[4 * i + k] = cs.points[i][k];
   if (!cs.round) {
-    auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), cs.normals.size()));
+    auto* n = static_cast<float*>(
+        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), cs.normals.size()));
     for (size_t i = 0; i < cs.normals.size(); ++i)
       for (int k = 0; k < 3; ++k) n[3 * i + k] = cs.normals[i][k];
   }

@@ -4,8 +4,8 @@
 // Embree's normal-oriented curves (CurveSet::exact); or round tubes (CurveSet::round: stems drawn as
 // lines at range, geometry/trees/lod.h) in a bark material, Embree's round Bézier curves.
 
-#include "render/primitives/ray_hit.h"
 #include "render/materials/hit_context.h"
+#include "render/primitives/ray_hit.h"
 #include "render/sensors/camera.h"
 
 namespace sylva {

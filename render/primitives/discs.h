@@ -3,8 +3,8 @@
 // centre, radius and normal (Embree's normal-oriented disc points), two-sided in
 // Prototype::disc_material, a leaf material; the normal gives the upper face.
 
-#include "render/primitives/ray_hit.h"
 #include "render/materials/hit_context.h"
+#include "render/primitives/ray_hit.h"
 #include "render/sensors/camera.h"
 
 namespace sylva {

@@ -4,8 +4,8 @@
 // materials its colouring picks from (Prototype::solid_palettes). A solid with a leaf area density
 // is a turbid crown, a medium whose boundary is crossed rather than shaded (media.h).
 
-#include "render/primitives/ray_hit.h"
 #include "render/materials/hit_context.h"
+#include "render/primitives/ray_hit.h"
 #include "render/sensors/camera.h"
 
 namespace sylva {

@@ -8,8 +8,8 @@
 #include "scenes/sidecar.h"
 #include "tests/support/json_parse.h"
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -64,8 +64,8 @@ TEST(Sidecar, DiscCanopyAndGrassPatchGetTheBoxesOfTheirGeometry) {
   grass.curves = make_grass_patch(GrassParams{}, 5);
   const uint32_t grass_proto = scene.add_prototype(std::move(grass));
   Instance placed{grass_proto};
-  placed.world_from_object = glm::translate(Mat4(1.0f), Vec3(-4, 1, 0.2f)) *
-                             glm::rotate(Mat4(1.0f), 0.5f * kPi, Vec3(0, 0, 1));
+  placed.world_from_object =
+      glm::translate(Mat4(1.0f), Vec3(-4, 1, 0.2f)) * glm::rotate(Mat4(1.0f), 0.5f * kPi, Vec3(0, 0, 1));
   placed.object_id = 8;
   placed.class_id = kClassGrass;
   scene.instances.push_back(placed);

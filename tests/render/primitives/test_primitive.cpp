@@ -35,7 +35,8 @@ std::vector<std::pair<std::string, Prototype>> one_of_each_kind() {
   mesh.triangles = make_sphere(1.5f);
   kinds.emplace_back("triangles", std::move(mesh));
   Prototype leaves;
-  for (const Vec3& c : {Vec3(0, 0, 0), Vec3(1, 0, 0.5f), Vec3(1, 1, 1), Vec3(0, 1, 0.2f)}) leaves.leaves.corners.push_back(c);
+  for (const Vec3& c : {Vec3(0, 0, 0), Vec3(1, 0, 0.5f), Vec3(1, 1, 1), Vec3(0, 1, 0.2f)})
+    leaves.leaves.corners.push_back(c);
   leaves.leaves.shapes.push_back(LeafShape::Oval);
   kinds.emplace_back("leaf quads", std::move(leaves));
   Prototype solid;
@@ -50,7 +51,8 @@ std::vector<std::pair<std::string, Prototype>> one_of_each_kind() {
   exact.curves.exact = true;
   kinds.emplace_back("exact ribbons", std::move(exact));
   Prototype round;
-  for (const Vec4& p : {Vec4(0, 0, 0, 0.05f), Vec4(0.2f, 0, 1, 0.04f), Vec4(0.5f, 0.3f, 2, 0.03f), Vec4(1, 1, 3, 0.02f)})
+  for (const Vec4& p :
+       {Vec4(0, 0, 0, 0.05f), Vec4(0.2f, 0, 1, 0.04f), Vec4(0.5f, 0.3f, 2, 0.03f), Vec4(1, 1, 3, 0.02f)})
     round.curves.points.push_back(p);
   round.curves.round = true;
   kinds.emplace_back("round curves", std::move(round));
