@@ -1,6 +1,7 @@
 #include "render/embree_scene.h"
 
 #include "core/error.h"
+#include "render/cell_walk.h"
 #include "render/instance_sweep.h"
 #include "render/primitives/embree_geometry.h"
 #include "render/primitives/leaf_quads.h"
@@ -54,17 +55,6 @@ void error_callback(void*, RTCError code, const char* message) {
 
 // The nine cells of a cyclic plot's neighbourhood, in periods; the plot's own cell first.
 const Vec2 kCellShifts[9] = {{0, 0}, {-1, -1}, {0, -1}, {1, -1}, {-1, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-
-// A ray in a cyclic plot that crosses this many cell walls without hitting anything is taken to
-// escape: only rays within a few degrees of horizontal in an empty layer get this far.
-constexpr int kMaxCellCrossings = 4096;
-
-// `x` wrapped into [lo, lo + period).
-float wrap(float x, float lo, float period) {
-  float w = x - period * std::floor((x - lo) / period);
-  if (w >= lo + period) w -= period;
-  return w;
-}
 
 // The instance array (InstanceLevel::array): one user geometry over every placed copy. Primitive p
 // is copy k = p / count of instance i = p % count — the ids native instances would have — so a hit's
@@ -328,75 +318,6 @@ struct EmbreeScene::Impl {
   }
 };
 
-BvhBuild bvh_build_for(uint64_t path_samples) {
-  // About a minute of rendering on two cores: the thorough build's extra seconds pay for themselves.
-  constexpr uint64_t kThoroughFrom = uint64_t{1} << 24;
-  return path_samples >= kThoroughFrom ? BvhBuild::kThorough : BvhBuild::kFast;
-}
-
-namespace {
-
-struct IsaName {
-  EmbreeIsa isa;
-  const char* name;
-};
-constexpr IsaName kIsaNames[] = {{EmbreeIsa::kNative, "native"}, {EmbreeIsa::kSse2, "sse2"},
-                                 {EmbreeIsa::kSse42, "sse4.2"},  {EmbreeIsa::kAvx, "avx"},
-                                 {EmbreeIsa::kAvx2, "avx2"},     {EmbreeIsa::kAvx512, "avx512"}};
-
-// The widest set of Embree's kernels this processor runs (Embree's own feature tests).
-EmbreeIsa processor_isa() {
-  __builtin_cpu_init();
-  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
-                    __builtin_cpu_supports("bmi2");
-  if (avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-      __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl"))
-    return EmbreeIsa::kAvx512;
-  if (avx2) return EmbreeIsa::kAvx2;
-  if (__builtin_cpu_supports("avx")) return EmbreeIsa::kAvx;
-  if (__builtin_cpu_supports("sse4.2")) return EmbreeIsa::kSse42;
-  return EmbreeIsa::kSse2;
-}
-
-}  // namespace
-
-EmbreeIsa parse_embree_isa(const std::string& name) {
-  for (const IsaName& n : kIsaNames)
-    if (name == n.name) return n.isa;
-  throw Error(fmt::format(
-      "unknown instruction set '{}': expected \"native\", \"sse2\", \"sse4.2\", \"avx\", \"avx2\" or \"avx512\"",
-      name));
-}
-
-std::vector<std::string> embree_isa_names() {
-  std::vector<std::string> names;
-  for (const IsaName& n : kIsaNames) names.emplace_back(n.name);
-  return names;
-}
-
-const char* embree_isa_name(EmbreeIsa isa) {
-  for (const IsaName& n : kIsaNames)
-    if (isa == n.isa) return n.name;
-  return "native";
-}
-
-EmbreeIsa resolve_embree_isa(EmbreeIsa requested) {
-  static const EmbreeIsa widest = [] {
-    EmbreeIsa isa = processor_isa();
-    // Embree's own word on the widths it runs: a library built without its AVX-512 (or AVX)
-    // kernels falls back to the next it has.
-    RTCDevice device = rtcNewDevice("verbose=0");
-    if (!device) return isa;
-    if (isa == EmbreeIsa::kAvx512 && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
-      isa = EmbreeIsa::kAvx2;
-    if (isa >= EmbreeIsa::kAvx && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
-      isa = EmbreeIsa::kSse42;
-    rtcReleaseDevice(device);
-    return isa;
-  }();
-  return requested == EmbreeIsa::kNative ? widest : std::min(requested, widest);
-}
-
 EmbreeScene::EmbreeScene(const Scene& scene) : EmbreeScene(scene, TransportFaults{}, BvhBuild::kThorough) {}
 
 EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults)
@@ -484,46 +405,6 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
 }
 
 EmbreeScene::~EmbreeScene() = default;
-
-namespace {
-
-// Embree instances of `scene`: a cyclic plot's nine copies of each instance counted.
-size_t embree_instances(const Scene& scene) {
-  return scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);
-}
-
-}  // namespace
-
-bool uses_instance_array(const Scene& scene) {
-  switch (scene.instance_level) {
-    case InstanceLevel::native:
-    case InstanceLevel::sweep:
-      return false;
-    case InstanceLevel::array:
-      return true;
-    case InstanceLevel::automatic:
-      break;
-  }
-  return embree_instances(scene) >= kInstanceArrayThreshold;
-}
-
-bool uses_instance_sweep(const Scene& scene) {
-  switch (scene.instance_level) {
-    case InstanceLevel::native:
-    case InstanceLevel::array:
-      return false;
-    case InstanceLevel::sweep:
-      if (embree_instances(scene) > InstanceBoxes::kMaxCopies)
-        throw Error(
-            fmt::format("instancing = \"sweep\" takes at most {} copies, not {} (a cyclic plot counts nine "
-                        "of each instance): use \"auto\" or \"native\"",
-                        InstanceBoxes::kMaxCopies, embree_instances(scene)));
-      return true;
-    case InstanceLevel::automatic:
-      break;
-  }
-  return embree_instances(scene) <= InstanceBoxes::kMaxCopies;
-}
 
 // One Embree instance per copy: copy k of instance i has the Embree id k·N + i (copy 0 is the
 // instance itself, copies 1–8 its shifts by whole periods in a cyclic plot).
@@ -617,63 +498,6 @@ void EmbreeScene::add_instance_array(const Scene& scene, int copies) {
   rtcAttachGeometry(m.top, g);
   rtcReleaseGeometry(g);
 }
-
-namespace {
-
-// A ray's walk through a cyclic plot's cell: the current origin (wrapped into the cell), the
-// distance travelled so far, and the length of the segment inside the cell.
-struct CellWalk {
-  Vec3 origin;
-  float travelled = 0;
-  float segment = 0;   // to the next side wall; infinity for a vertical ray
-  int exit_axis = -1;  // 0 = x, 1 = y wall at the segment's end
-};
-
-// Sets up the segment from walk.origin to the cell's side walls.
-void next_segment(CellWalk& walk, const Vec3& d, Vec2 lo, Vec2 hi) {
-  walk.segment = std::numeric_limits<float>::infinity();
-  walk.exit_axis = -1;
-  for (int a = 0; a < 2; ++a) {
-    if (d[a] == 0.0f) continue;
-    const float t = ((d[a] > 0 ? hi[a] : lo[a]) - walk.origin[a]) / d[a];
-    if (t < walk.segment) {
-      walk.segment = std::max(t, 0.0f);
-      walk.exit_axis = a;
-    }
-  }
-}
-
-// Moves the walk to the opposite wall at the end of its segment. False when the ray has left the
-// heights where geometry lies (or crossed too many walls): it escapes.
-bool cross_wall(CellWalk& walk, const Vec3& d, Vec2 lo, Vec2 hi, float z_lo, float z_hi, int& crossings) {
-  walk.origin += walk.segment * d;
-  walk.travelled += walk.segment;
-  const int a = walk.exit_axis;
-  walk.origin[a] = d[a] > 0 ? lo[a] : hi[a];
-  const int b = 1 - a;
-  walk.origin[b] = std::clamp(walk.origin[b], lo[b], hi[b]);
-  if ((walk.origin.z > z_hi && d.z >= 0) || (walk.origin.z < z_lo && d.z <= 0)) return false;
-  return ++crossings < kMaxCellCrossings;
-}
-
-// Starts a walk through a cyclic plot's cell: from the top (or bottom) of the geometry's heights
-// when the ray begins outside them, the origin wrapped into the cell. False when the ray never
-// reaches those heights.
-bool start_walk(float z_lo, float z_hi, Vec2 lo, Vec2 period, const Vec3& origin, const Vec3& d, CellWalk& walk) {
-  walk.origin = origin;
-  if (walk.origin.z > z_hi || walk.origin.z < z_lo) {
-    const float z = walk.origin.z > z_hi ? z_hi : z_lo;
-    if (d.z == 0.0f || (z - walk.origin.z) / d.z < 0) return false;
-    walk.travelled = (z - walk.origin.z) / d.z;
-    walk.origin += walk.travelled * d;
-    walk.origin.z = z;
-  }
-  walk.origin.x = wrap(walk.origin.x, lo.x, period.x);
-  walk.origin.y = wrap(walk.origin.y, lo.y, period.y);
-  return true;
-}
-
-}  // namespace
 
 bool EmbreeScene::intersect(const Ray& ray, RayHit* hit, uint32_t from) const {
   if (!impl_->cyclic) return intersect_cell(ray, hit, from);
