@@ -43,6 +43,40 @@ void run_blocks(int threads, size_t blocks, const Body& body) {
   arena.execute([&] { tbb::parallel_for(size_t{0}, blocks, [&](size_t b) { body(b); }); });
 }
 
+// Per block and channel of the flux walk: Σy, Σy², and per term Σx, Σx², Σxy.
+constexpr size_t kFluxStride = 2 + 3 * FluxTable::kTerms;
+
+// The flux table from the per-block sums: per block and channel kFluxStride values, Σy, Σy² and per
+// term Σx, Σx², Σxy (y = incident, x = the term's share), over n samples in `blocks` blocks.
+FluxTable summarise_flux(const std::vector<double>& sums, size_t blocks, const std::vector<std::string>& channels,
+                         int n) {
+  constexpr int kT = FluxTable::kTerms;
+  constexpr size_t kStride = kFluxStride;
+  const size_t nc = channels.size();
+  FluxTable table;
+  table.channels = channels;
+  table.samples = n;
+  for (size_t c = 0; c < nc; ++c) {
+    std::array<double, kStride> s{};
+    for (size_t b = 0; b < blocks; ++b)
+      for (size_t k = 0; k < kStride; ++k) s[k] += sums[(b * nc + c) * kStride + k];
+    std::array<double, kT> mean{}, se{};
+    if (s[0] > 0) {
+      // Ratio estimator R = Σx / Σy; its variance by the delta method, var(x − R y) / (n ȳ²).
+      const double ybar = s[0] / n;
+      for (int t = 0; t < kT; ++t) {
+        const double r = s[2 + 3 * t] / s[0];
+        const double var = std::max(0.0, (s[3 + 3 * t] - 2 * r * s[4 + 3 * t] + r * r * s[1]) / std::max(1.0, n - 1.0));
+        mean[t] = r;
+        se[t] = std::sqrt(var / n) / ybar;
+      }
+    }
+    table.mean.push_back(mean);
+    table.se.push_back(se);
+  }
+  return table;
+}
+
 }  // namespace
 
 std::vector<PlotView> principal_plane_views(float from_deg, float to_deg, float step_deg, float sun_azimuth_deg) {
@@ -131,7 +165,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
   enum Term { kLeaves, kBark, kGround, kGroundDirect, kGroundTotal, kReflected, kClosure };
   constexpr int kT = FluxTable::kTerms;
   // Per block and channel: Σy, Σy², and per term Σx, Σx², Σxy (y = incident, x = the term's share).
-  constexpr size_t kStride = 2 + 3 * kT;
+  constexpr size_t kStride = kFluxStride;
   std::vector<double> sums(blocks * nc * kStride, 0.0);
   const auto category = [&](uint32_t material) {
     if (is_foliage(scene.materials[material])) return kLeaves;
@@ -196,28 +230,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
       }
     }
   });
-  FluxTable table;
-  table.channels = channels.names;
-  table.samples = n;
-  for (size_t c = 0; c < nc; ++c) {
-    std::array<double, kStride> s{};
-    for (size_t b = 0; b < blocks; ++b)
-      for (size_t k = 0; k < kStride; ++k) s[k] += sums[(b * nc + c) * kStride + k];
-    std::array<double, kT> mean{}, se{};
-    if (s[0] > 0) {
-      // Ratio estimator R = Σx / Σy; its variance by the delta method, var(x − R y) / (n ȳ²).
-      const double ybar = s[0] / n;
-      for (int t = 0; t < kT; ++t) {
-        const double r = s[2 + 3 * t] / s[0];
-        const double var = std::max(0.0, (s[3 + 3 * t] - 2 * r * s[4 + 3 * t] + r * r * s[1]) / std::max(1.0, n - 1.0));
-        mean[t] = r;
-        se[t] = std::sqrt(var / n) / ybar;
-      }
-    }
-    table.mean.push_back(mean);
-    table.se.push_back(se);
-  }
-  return table;
+  return summarise_flux(sums, blocks, channels.names, n);
 }
 
 }  // namespace sylva
