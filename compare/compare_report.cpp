@@ -207,9 +207,8 @@ void write_item_previews(const std::filesystem::path& dir, const Image& test, co
   write_png_rgb8(dir / (item.slug + "_reject.png"), ref.width, ref.height, reject_rgb);
 }
 
-// The report page: verdict, statistics, channels (failing first) and the previews (failing first).
-std::string report_html(const CompareResult& result, const ReportOptions& options,
-                        const std::vector<PreviewItem>& items) {
+// The page's head, verdict and statistics.
+std::string html_verdict(const CompareResult& result, const ReportOptions& options) {
   std::string h;
   const char* verdict = result.passed ? "PASS" : "FAIL";
   h += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
@@ -252,8 +251,12 @@ std::string report_html(const CompareResult& result, const ReportOptions& option
         "{:.3g}.</p>\n",
         result.worst.x, result.worst.y, html_escape(result.worst.channel), result.worst.test, result.worst.ref,
         result.threshold_mode ? "d/T" : "z", result.worst.z, result.worst.p);
+  return h;
+}
 
-  // Channels, failing first.
+// The channel table, failing channels first, and what was not compared.
+std::string html_channels(const CompareResult& result) {
+  std::string h;
   std::vector<const ChannelReport*> channels;
   for (const ChannelReport& c : result.channels) channels.push_back(&c);
   std::stable_sort(channels.begin(), channels.end(), [](const ChannelReport* a, const ChannelReport* b) {
@@ -292,8 +295,13 @@ std::string report_html(const CompareResult& result, const ReportOptions& option
   }
   if (!result.variance_model.empty())
     h += fmt::format("<p>Variance of the difference: {}.</p>\n", html_escape(result.variance_model));
+  return h;
+}
 
-  // Images, failing groups first.
+// The preview images, failing groups first.
+std::string html_images(const CompareResult& result, const ReportOptions& options,
+                        const std::vector<PreviewItem>& items) {
+  std::string h;
   h += fmt::format(
       "<h2>Images</h2>\n<p>|diff| is scaled by k = {:g}; rejecting pixels are red over the dimmed "
       "reference; a tile failing the local mean-bias test is outlined in yellow. Previews use the "
@@ -317,6 +325,16 @@ std::string report_html(const CompareResult& result, const ReportOptions& option
           item.slug, suffix, std::max(256, result.width), caption);
     h += "</div>\n</section>\n";
   }
+  return h;
+}
+
+// The report page: verdict, statistics, channels (failing first) and the previews (failing first).
+std::string report_html(const CompareResult& result, const ReportOptions& options,
+                        const std::vector<PreviewItem>& items) {
+  std::string h;
+  h += html_verdict(result, options);
+  h += html_channels(result);
+  h += html_images(result, options, items);
   h += "<h2>Files</h2>\n<p><a href=\"test.exr\">test.exr</a> &middot; <a "
        "href=\"ref.exr\">ref.exr</a> &middot; "
        "<a href=\"error.exr\">error.exr</a> (|z| per channel, reject.Y mask) &middot; <a "

@@ -70,23 +70,33 @@ struct ChannelPlan {
   double spp_test = 0.0, spp_ref = 0.0;  // both > 0: pool the per-sample variances
 };
 
-// Which channels are compared and how; fills result.skipped and result.variance_model.
-std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref, const CompareOptions& options,
-                                       const Image* test_var, const Image* ref_var, CompareResult& result) {
-  auto is_var = [](const std::string& name) { return name.rfind("var.", 0) == 0; };
-  auto require = [&](const std::string& name) {
-    const bool in_test = test.find_channel(name) >= 0, in_ref = ref.find_channel(name) >= 0;
-    if (!in_test || !in_ref)
-      throw Error(fmt::format("channel \"{}\" is missing from the {}", name,
-                              !in_test && !in_ref ? "test and reference images"
-                              : !in_test          ? "test image"
-                                                  : "reference image"));
-  };
+// How the variance of the difference was formed, for the summary: one clause per kind of channel.
+struct VarianceKinds {
+  bool both = false, pooled = false, ref_only = false, test_only = false, scaled = false;
+};
 
-  // Which channels, in which mode.
+std::string variance_model_text(const VarianceKinds& k, const std::optional<double>& spp_test,
+                                const std::optional<double>& spp_ref) {
+  std::vector<std::string> models;
+  if (k.both)
+    models.push_back(k.pooled ? fmt::format("pooled per-sample variance of test ({} spp) and reference ({} spp)",
+                                            *spp_test, *spp_ref)
+                              : "var_ref + var_test");
+  if (k.ref_only)
+    models.push_back(k.scaled ? "var_ref · (1 + spp_ref/spp_test)" : "var_ref only (test taken as exact)");
+  if (k.test_only)
+    models.push_back(k.scaled ? "var_test · (1 + spp_test/spp_ref)" : "var_test only (reference taken as exact)");
+  std::string text;
+  for (const std::string& m : models) text += (text.empty() ? "" : "; ") + m;
+  return text;
+}
+
+// The channels to compare: the options' list, or every channel of ref but var.* (which the test
+// must have too, and no more), then the exact and tolerance channels named.
+std::vector<std::string> channel_names(const Image& test, const Image& ref, const CompareOptions& options) {
+  auto is_var = [](const std::string& name) { return name.rfind("var.", 0) == 0; };
   std::vector<std::string> names = options.channels;
-  const bool explicit_channels = !names.empty();
-  if (!explicit_channels) {
+  if (names.empty()) {
     std::vector<std::string> only_test, only_ref;
     for (const std::string& c : ref.channels)
       if (!is_var(c)) {
@@ -114,9 +124,27 @@ std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref, cons
     if (!contains(names, c)) names.push_back(c);
   }
 
+  return names;
+}
+
+// Which channels are compared and how; fills result.skipped and result.variance_model.
+std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref, const CompareOptions& options,
+                                       const Image* test_var, const Image* ref_var, CompareResult& result) {
+  auto require = [&](const std::string& name) {
+    const bool in_test = test.find_channel(name) >= 0, in_ref = ref.find_channel(name) >= 0;
+    if (!in_test || !in_ref)
+      throw Error(fmt::format("channel \"{}\" is missing from the {}", name,
+                              !in_test && !in_ref ? "test and reference images"
+                              : !in_test          ? "test image"
+                                                  : "reference image"));
+  };
+
+  const bool explicit_channels = !options.channels.empty();
+  const std::vector<std::string> names = channel_names(test, ref, options);
+
   const std::optional<double> spp_test = spp_of(test), spp_ref = spp_of(ref);
   std::vector<ChannelPlan> plans;
-  bool any_both = false, any_pooled = false, any_ref_only = false, any_test_only = false, any_scaled = false;
+  VarianceKinds kinds;
   for (const std::string& name : names) {
     require(name);
     ChannelPlan plan;
@@ -150,21 +178,21 @@ std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref, cons
         continue;
       }
       if (plan.test_var && plan.ref_var) {
-        any_both = true;
+        kinds.both = true;
         if (spp_test && spp_ref && *spp_test + *spp_ref > 2.0) {
-          any_pooled = true;
+          kinds.pooled = true;
           plan.spp_test = *spp_test;
           plan.spp_ref = *spp_ref;
         }
       } else if (spp_test && spp_ref) {
-        any_scaled = true;
+        kinds.scaled = true;
         if (plan.ref_var)
           plan.test_var_scale = *spp_ref / *spp_test;
         else
           plan.ref_var_scale = *spp_test / *spp_ref;
       }
-      any_ref_only = any_ref_only || !plan.test_var;
-      any_test_only = any_test_only || !plan.ref_var;
+      kinds.ref_only = kinds.ref_only || !plan.test_var;
+      kinds.test_only = kinds.test_only || !plan.ref_var;
     }
     plans.push_back(std::move(plan));
   }
@@ -173,16 +201,7 @@ std::vector<ChannelPlan> plan_channels(const Image& test, const Image& ref, cons
         "no channel can be compared: none has a variance (give --ref-var/--test-var, or use "
         "--fail T --fail-percent P), an exact match or a tolerance");
 
-  std::vector<std::string> models;
-  if (any_both)
-    models.push_back(any_pooled ? fmt::format("pooled per-sample variance of test ({} spp) and reference ({} spp)",
-                                              *spp_test, *spp_ref)
-                                : "var_ref + var_test");
-  if (any_ref_only)
-    models.push_back(any_scaled ? "var_ref · (1 + spp_ref/spp_test)" : "var_ref only (test taken as exact)");
-  if (any_test_only)
-    models.push_back(any_scaled ? "var_test · (1 + spp_test/spp_ref)" : "var_test only (reference taken as exact)");
-  for (const std::string& m : models) result.variance_model += (result.variance_model.empty() ? "" : "; ") + m;
+  result.variance_model += variance_model_text(kinds, spp_test, spp_ref);
   return plans;
 }
 
@@ -223,8 +242,10 @@ double two_sided_z(double p) {
   return 0.5 * (lo + hi);
 }
 
-CompareResult compare_images(const Image& test, const Image& ref, const CompareOptions& options, const Image* test_var,
-                             const Image* ref_var) {
+namespace {
+
+void check_compare_inputs(const Image& test, const Image& ref, const CompareOptions& options, const Image* test_var,
+                          const Image* ref_var) {
   if (test.width != ref.width || test.height != ref.height)
     throw Error(fmt::format("size mismatch: test is {}x{}, reference is {}x{}", test.width, test.height, ref.width,
                             ref.height));
@@ -237,7 +258,187 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   if (!(options.max_reject_fraction >= 0.0 && options.max_reject_fraction <= 1.0))
     throw Error("the rejection limit must be in [0, 100%]");
   if (options.fail_threshold && !(*options.fail_threshold >= 0.0)) throw Error("--fail threshold must be >= 0");
+}
 
+// Tiles of the mean-bias test: size × size pixels, partial at the right and bottom edges; the sums
+// of one channel's differences and variances per tile.
+struct BiasTiles {
+  int size = 0;
+  size_t nx = 0, ny = 0;
+  size_t width = 0;
+  bool on = false;
+  std::vector<double> sum_d, sum_var;
+
+  size_t index(size_t p) const {
+    const size_t x = p % width, y = p / width;
+    return (y / static_cast<size_t>(size)) * nx + x / static_cast<size_t>(size);
+  }
+};
+
+BiasTiles bias_tiles(const Image& ref, const CompareOptions& options, bool bias_on) {
+  BiasTiles t;
+  t.size = options.bias_tile > 0 ? options.bias_tile : std::max(ref.width, ref.height);
+  t.nx = static_cast<size_t>((ref.width + t.size - 1) / t.size);
+  t.ny = static_cast<size_t>((ref.height + t.size - 1) / t.size);
+  t.width = static_cast<size_t>(ref.width);
+  t.on = bias_on && options.bias_tile > 0 && t.nx * t.ny > 1;
+  t.sum_d.assign(t.nx * t.ny, 0.0);
+  t.sum_var.assign(t.nx * t.ny, 0.0);
+  return t;
+}
+
+// One pixel-channel's verdict under its channel's test. `bias_var` is its variance when it enters
+// the bias sums (a z-tested, finite pixel that does not reject on its own), else NaN.
+struct PixelVerdict {
+  double z = 0.0, pval = 1.0, badness = 0.0, error_value = 0.0;
+  bool reject = false;
+  double bias_var = std::numeric_limits<double>::quiet_NaN();
+};
+
+PixelVerdict test_pixel(const ChannelPlan& plan, const CompareOptions& options, const CompareResult& result, double t,
+                        double r, size_t p) {
+  const double d = t == r ? 0.0 : t - r;  // equal infinities (a miss's depth) match
+  const bool finite = std::isfinite(t) && std::isfinite(r);
+  const bool identical = t == r;
+  PixelVerdict v;
+  switch (plan.test) {
+    case ChannelTest::ZTest: {
+      double var = difference_variance(plan, p);
+      const double floor = options.variance_rel_floor * std::max(std::abs(t), std::abs(r));
+      if (!std::isfinite(var)) var = kInf;
+      var = std::max(var, floor * floor);
+      if (identical) {
+        v.z = 0.0;
+      } else if (!finite) {
+        v.z = kInf;
+      } else if (var > 0.0) {
+        v.z = d / std::sqrt(var);
+      } else {
+        v.z = d == 0.0 ? 0.0 : kInf;  // two exact zeros
+      }
+      v.pval = std::isfinite(v.z) ? two_sided_p(v.z) : 0.0;
+      v.reject = v.pval < result.alpha_pixel;
+      v.badness = std::abs(v.z) / result.z_critical;
+      v.error_value = std::abs(v.z);
+      // Pixels that reject on their own are counted by the share; leaving them out of the bias
+      // sums keeps a single firefly from failing a whole tile or channel.
+      if (finite && std::isfinite(var) && !v.reject) v.bias_var = var;
+      break;
+    }
+    case ChannelTest::Threshold:
+    case ChannelTest::AbsTolerance:
+      v.reject = !identical && (!finite || std::abs(d) > plan.tolerance);
+      v.z = identical ? 0.0 : !finite ? kInf : plan.tolerance > 0.0 ? d / plan.tolerance : (d == 0.0 ? 0.0 : kInf);
+      v.badness = std::abs(v.z);
+      v.error_value = std::abs(v.z);
+      v.pval = v.reject ? 0.0 : 1.0;
+      break;
+    case ChannelTest::Exact:
+      v.reject = !identical;
+      v.z = v.reject ? kInf : 0.0;
+      v.badness = v.reject ? kInf : 0.0;
+      v.error_value = v.reject ? 1.0 : 0.0;
+      v.pval = v.reject ? 0.0 : 1.0;
+      break;
+  }
+  return v;
+}
+
+// The channel's tile of largest |z| in the mean-bias test, and whether it fails.
+void worst_bias_tile(const BiasTiles& tiles, const CompareResult& result, ChannelReport& report) {
+  for (size_t k = 0; k < tiles.sum_d.size(); ++k) {
+    const double z =
+        tiles.sum_var[k] > 0.0 ? tiles.sum_d[k] / std::sqrt(tiles.sum_var[k]) : (tiles.sum_d[k] == 0.0 ? 0.0 : kInf);
+    if (report.tile_x < 0 || std::abs(z) > std::abs(report.tile_z)) {
+      report.tile_z = z;
+      report.tile_x = static_cast<int>(k % tiles.nx) * tiles.size;
+      report.tile_y = static_cast<int>(k / tiles.nx) * tiles.size;
+    }
+  }
+  report.tile_failed = std::abs(report.tile_z) > result.tile_z_critical;
+}
+
+// Tests every pixel of channel `ci` (plan): writes its error and p-value planes, marks failing
+// pixels, keeps the worst pixel (by `worst_badness`) and returns the channel's report.
+ChannelReport compare_channel(const ChannelPlan& plan, size_t ci, const Image& test, const Image& ref,
+                              const CompareOptions& options, bool bias_on, BiasTiles& tiles,
+                              std::vector<uint8_t>& pixel_failed, double& worst_badness, CompareResult& result) {
+  ChannelReport report;
+  report.name = plan.name;
+  report.test = plan.test;
+  double sum_d = 0.0, sum_abs_d = 0.0, sum_abs_ref = 0.0, sum_var = 0.0, bias_sum_d = 0.0;
+  std::fill(tiles.sum_d.begin(), tiles.sum_d.end(), 0.0);
+  std::fill(tiles.sum_var.begin(), tiles.sum_var.end(), 0.0);
+  const size_t tnc = test.channels.size(), rnc = ref.channels.size();
+  const size_t pixel_count = pixel_failed.size();
+  for (size_t p = 0; p < pixel_count; ++p) {
+    const double t = test.pixels[p * tnc + static_cast<size_t>(plan.test_c)];
+    const double r = ref.pixels[p * rnc + static_cast<size_t>(plan.ref_c)];
+    const double d = t == r ? 0.0 : t - r;
+    const bool finite = std::isfinite(t) && std::isfinite(r);
+    const PixelVerdict v = test_pixel(plan, options, result, t, r, p);
+    if (!std::isnan(v.bias_var)) {
+      bias_sum_d += d;
+      sum_var += v.bias_var;
+      const size_t tile = tiles.index(p);
+      tiles.sum_d[tile] += d;
+      tiles.sum_var[tile] += v.bias_var;
+    }
+    ++report.tested;
+    if (v.reject) {
+      ++report.rejected;
+      pixel_failed[p] = 1;
+    }
+    if (finite) {
+      sum_d += d;
+      sum_abs_d += std::abs(d);
+      sum_abs_ref += std::abs(r);
+      report.max_abs_diff = std::max(report.max_abs_diff, std::abs(d));
+    } else if (t != r) {
+      report.max_abs_diff = kInf;
+    }
+    const int x = static_cast<int>(p % static_cast<size_t>(ref.width));
+    const int y = static_cast<int>(p / static_cast<size_t>(ref.width));
+    result.error.at(x, y, static_cast<int>(ci)) = static_cast<float>(v.error_value);
+    result.pvalue.at(x, y, static_cast<int>(ci)) = static_cast<float>(v.pval);
+    if (v.badness > worst_badness) {
+      worst_badness = v.badness;
+      result.worst = WorstPixel{x, y, plan.name, v.z, v.pval, t, r};
+    }
+  }
+  report.mean_rel_diff = sum_abs_ref > 0.0 ? sum_d / sum_abs_ref : (sum_d == 0.0 ? 0.0 : kInf);
+  report.mean_abs_rel_diff = sum_abs_ref > 0.0 ? sum_abs_d / sum_abs_ref : (sum_abs_d == 0.0 ? 0.0 : kInf);
+  if (plan.test == ChannelTest::ZTest && bias_on) {
+    report.bias_z = sum_var > 0.0 ? bias_sum_d / std::sqrt(sum_var) : (bias_sum_d == 0.0 ? 0.0 : kInf);
+    report.bias_failed = std::abs(report.bias_z) > result.bias_z_critical;
+  }
+  if (plan.test == ChannelTest::ZTest && tiles.on) worst_bias_tile(tiles, result, report);
+  return report;
+}
+
+// The verdict: the share of rejecting pixel-channels (threshold mode: of failing pixels) against
+// the limit, and no failing mean-bias test.
+void decide(const CompareOptions& options, size_t pixel_count, CompareResult& result) {
+  bool bias_failed = false;
+  for (const ChannelReport& c : result.channels) bias_failed = bias_failed || c.bias_failed || c.tile_failed;
+  if (result.threshold_mode) {
+    // idiff: fail when nfail > failpercent/100 · npels.
+    result.limit = options.fail_percent / 100.0;
+    result.reject_fraction = static_cast<double>(result.failing_pixels) / static_cast<double>(pixel_count);
+    result.passed = static_cast<double>(result.failing_pixels) <= result.limit * static_cast<double>(pixel_count);
+  } else {
+    result.limit = options.max_reject_fraction;
+    result.reject_fraction =
+        result.tested > 0 ? static_cast<double>(result.rejected) / static_cast<double>(result.tested) : 0.0;
+    result.passed = result.reject_fraction <= result.limit && !bias_failed;
+  }
+}
+
+}  // namespace
+
+CompareResult compare_images(const Image& test, const Image& ref, const CompareOptions& options, const Image* test_var,
+                             const Image* ref_var) {
+  check_compare_inputs(test, ref, options, test_var, ref_var);
   CompareResult result;
   result.width = ref.width;
   result.height = ref.height;
@@ -262,126 +463,17 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   const int reject_c = result.error.channel_count() - 1;
   std::vector<uint8_t> pixel_failed(pixel_count, 0);
 
-  // Tiles of the mean-bias test: tile × tile pixels, partial at the right and bottom edges.
-  const int tile_size = options.bias_tile > 0 ? options.bias_tile : std::max(ref.width, ref.height);
-  const size_t tiles_x = static_cast<size_t>((ref.width + tile_size - 1) / tile_size);
-  const size_t tiles_y = static_cast<size_t>((ref.height + tile_size - 1) / tile_size);
-  const bool tiles_on = bias_on && options.bias_tile > 0 && tiles_x * tiles_y > 1;
-  auto tile_index = [&](size_t p) {
-    const size_t x = p % static_cast<size_t>(ref.width), y = p / static_cast<size_t>(ref.width);
-    return (y / static_cast<size_t>(tile_size)) * tiles_x + x / static_cast<size_t>(tile_size);
-  };
-  std::vector<double> tile_sum_d(tiles_x * tiles_y), tile_sum_var(tiles_x * tiles_y);
+  BiasTiles tiles = bias_tiles(ref, options, bias_on);
   result.tile_z_critical =
-      tiles_on ? two_sided_z(sidak(options.bias_alpha,
-                                   static_cast<double>(static_cast<size_t>(z_channels) * tiles_x * tiles_y)))
+      tiles.on ? two_sided_z(sidak(options.bias_alpha,
+                                   static_cast<double>(static_cast<size_t>(z_channels) * tiles.nx * tiles.ny)))
                : kInf;
-  result.bias_tile = tiles_on ? tile_size : 0;
+  result.bias_tile = tiles.on ? tiles.size : 0;
 
   double worst_badness = -1.0;
-  const size_t tnc = test.channels.size(), rnc = ref.channels.size();
   for (size_t ci = 0; ci < plans.size(); ++ci) {
-    const ChannelPlan& plan = plans[ci];
-    ChannelReport report;
-    report.name = plan.name;
-    report.test = plan.test;
-    double sum_d = 0.0, sum_abs_d = 0.0, sum_abs_ref = 0.0, sum_var = 0.0, bias_sum_d = 0.0;
-    std::fill(tile_sum_d.begin(), tile_sum_d.end(), 0.0);
-    std::fill(tile_sum_var.begin(), tile_sum_var.end(), 0.0);
-    for (size_t p = 0; p < pixel_count; ++p) {
-      const double t = test.pixels[p * tnc + static_cast<size_t>(plan.test_c)];
-      const double r = ref.pixels[p * rnc + static_cast<size_t>(plan.ref_c)];
-      const double d = t == r ? 0.0 : t - r;  // equal infinities (a miss's depth) match
-      const bool finite = std::isfinite(t) && std::isfinite(r);
-      const bool identical = t == r;
-      double z = 0.0, pval = 1.0, badness = 0.0, error_value = 0.0;
-      bool reject = false;
-      switch (plan.test) {
-        case ChannelTest::ZTest: {
-          double var = difference_variance(plan, p);
-          const double floor = options.variance_rel_floor * std::max(std::abs(t), std::abs(r));
-          if (!std::isfinite(var)) var = kInf;
-          var = std::max(var, floor * floor);
-          if (identical) {
-            z = 0.0;
-          } else if (!finite) {
-            z = kInf;
-          } else if (var > 0.0) {
-            z = d / std::sqrt(var);
-          } else {
-            z = d == 0.0 ? 0.0 : kInf;  // two exact zeros
-          }
-          pval = std::isfinite(z) ? two_sided_p(z) : 0.0;
-          reject = pval < result.alpha_pixel;
-          badness = std::abs(z) / result.z_critical;
-          error_value = std::abs(z);
-          // Pixels that reject on their own are counted by the share; leaving them out of the bias
-          // sums keeps a single firefly from failing a whole tile or channel.
-          if (finite && std::isfinite(var) && !reject) {
-            bias_sum_d += d;
-            sum_var += var;
-            const size_t tile = tile_index(p);
-            tile_sum_d[tile] += d;
-            tile_sum_var[tile] += var;
-          }
-          break;
-        }
-        case ChannelTest::Threshold:
-        case ChannelTest::AbsTolerance:
-          reject = !identical && (!finite || std::abs(d) > plan.tolerance);
-          z = identical ? 0.0 : !finite ? kInf : plan.tolerance > 0.0 ? d / plan.tolerance : (d == 0.0 ? 0.0 : kInf);
-          badness = std::abs(z);
-          error_value = std::abs(z);
-          pval = reject ? 0.0 : 1.0;
-          break;
-        case ChannelTest::Exact:
-          reject = !identical;
-          z = reject ? kInf : 0.0;
-          badness = reject ? kInf : 0.0;
-          error_value = reject ? 1.0 : 0.0;
-          pval = reject ? 0.0 : 1.0;
-          break;
-      }
-      ++report.tested;
-      if (reject) {
-        ++report.rejected;
-        pixel_failed[p] = 1;
-      }
-      if (finite) {
-        sum_d += d;
-        sum_abs_d += std::abs(d);
-        sum_abs_ref += std::abs(r);
-        report.max_abs_diff = std::max(report.max_abs_diff, std::abs(d));
-      } else if (!identical) {
-        report.max_abs_diff = kInf;
-      }
-      const int x = static_cast<int>(p % static_cast<size_t>(ref.width));
-      const int y = static_cast<int>(p / static_cast<size_t>(ref.width));
-      result.error.at(x, y, static_cast<int>(ci)) = static_cast<float>(error_value);
-      result.pvalue.at(x, y, static_cast<int>(ci)) = static_cast<float>(pval);
-      if (badness > worst_badness) {
-        worst_badness = badness;
-        result.worst = WorstPixel{x, y, plan.name, z, pval, t, r};
-      }
-    }
-    report.mean_rel_diff = sum_abs_ref > 0.0 ? sum_d / sum_abs_ref : (sum_d == 0.0 ? 0.0 : kInf);
-    report.mean_abs_rel_diff = sum_abs_ref > 0.0 ? sum_abs_d / sum_abs_ref : (sum_abs_d == 0.0 ? 0.0 : kInf);
-    if (plan.test == ChannelTest::ZTest && bias_on) {
-      report.bias_z = sum_var > 0.0 ? bias_sum_d / std::sqrt(sum_var) : (bias_sum_d == 0.0 ? 0.0 : kInf);
-      report.bias_failed = std::abs(report.bias_z) > result.bias_z_critical;
-    }
-    if (plan.test == ChannelTest::ZTest && tiles_on) {
-      for (size_t k = 0; k < tile_sum_d.size(); ++k) {
-        const double z =
-            tile_sum_var[k] > 0.0 ? tile_sum_d[k] / std::sqrt(tile_sum_var[k]) : (tile_sum_d[k] == 0.0 ? 0.0 : kInf);
-        if (report.tile_x < 0 || std::abs(z) > std::abs(report.tile_z)) {
-          report.tile_z = z;
-          report.tile_x = static_cast<int>(k % tiles_x) * tile_size;
-          report.tile_y = static_cast<int>(k / tiles_x) * tile_size;
-        }
-      }
-      report.tile_failed = std::abs(report.tile_z) > result.tile_z_critical;
-    }
+    ChannelReport report =
+        compare_channel(plans[ci], ci, test, ref, options, bias_on, tiles, pixel_failed, worst_badness, result);
     result.tested += report.tested;
     result.rejected += report.rejected;
     result.channels.push_back(std::move(report));
@@ -390,20 +482,7 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
     result.error.pixels[p * result.error.channels.size() + static_cast<size_t>(reject_c)] = pixel_failed[p];
     result.failing_pixels += pixel_failed[p];
   }
-
-  bool bias_failed = false;
-  for (const ChannelReport& c : result.channels) bias_failed = bias_failed || c.bias_failed || c.tile_failed;
-  if (result.threshold_mode) {
-    // idiff: fail when nfail > failpercent/100 · npels.
-    result.limit = options.fail_percent / 100.0;
-    result.reject_fraction = static_cast<double>(result.failing_pixels) / static_cast<double>(pixel_count);
-    result.passed = static_cast<double>(result.failing_pixels) <= result.limit * static_cast<double>(pixel_count);
-  } else {
-    result.limit = options.max_reject_fraction;
-    result.reject_fraction =
-        result.tested > 0 ? static_cast<double>(result.rejected) / static_cast<double>(result.tested) : 0.0;
-    result.passed = result.reject_fraction <= result.limit && !bias_failed;
-  }
+  decide(options, pixel_count, result);
   return result;
 }
 

@@ -67,27 +67,21 @@ struct ObjectEntry {
   Bounds3 world;
 };
 
-}  // namespace
-
-std::filesystem::path sidecar_path(const std::filesystem::path& exr) {
-  std::filesystem::path out = exr;
-  return out.replace_extension(".json");
-}
-
-std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, const Image& image,
-                         const std::filesystem::path& exr) {
-  const Scene& scene = file.scene;
-  const int object_channel = image.find_channel("id.object");
-  if (object_channel < 0) throw Error("the label sidecar needs the id.object AOV");
-
-  // Visible pixels of every object id in the image.
+// Visible pixels of every object id in the image.
+std::map<uint32_t, Coverage> visible_objects(const Image& image, int object_channel) {
   std::map<uint32_t, Coverage> visible;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       const auto id = static_cast<uint32_t>(image.at(x, y, object_channel));
       if (id != 0) visible[id].add(x, y);
     }
-  // The objects listed: those visible, and every target. One pass over the instances.
+  return visible;
+}
+
+// The objects listed: those visible, and every target, with their first instance and world bounds.
+// One pass over the instances.
+std::map<uint32_t, ObjectEntry> listed_objects(const SceneFile& file, const std::map<uint32_t, Coverage>& visible) {
+  const Scene& scene = file.scene;
   std::map<uint32_t, ObjectEntry> objects;
   for (const auto& [id, c] : visible) objects[id];
   for (const TargetInfo& t : file.targets) objects[t.object_id];
@@ -112,7 +106,13 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
       found->second.world.extend(b.hi);
     }
   }
+  return objects;
+}
 
+// The image, the scene, the AOV names, and the class and variant tables.
+std::string header_json(const SceneFile& file, const RenderSettings& settings, const Image& image,
+                        const std::filesystem::path& exr) {
+  const Scene& scene = file.scene;
   std::string out = "{\n";
   out += "  \"format\": \"sylva-labels\",\n  \"version\": 1,\n";
   out += fmt::format("  \"image\": {{\"file\": {}, \"width\": {}, \"height\": {}}},\n",
@@ -135,14 +135,20 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
         i + 1, json_string(v.kind), json_string(v.name), json_string(v.source), v.seed, v.class_id);
   }
   out += "\n  ],\n";
+  return out;
+}
 
+// Every listed object: its name, labels, source, position, bounds and visible pixels.
+std::string objects_json(const SceneFile& file, const std::map<uint32_t, ObjectEntry>& objects,
+                         const std::map<uint32_t, Coverage>& visible) {
+  const Scene& scene = file.scene;
   const auto object_name = [&](uint32_t id, const Instance& inst) {
     for (const TargetInfo& t : file.targets)
       if (t.object_id == id) return t.name;
     if (inst.variant_id > 0) return file.variants[inst.variant_id - 1].name;
     return scene.prototypes[inst.prototype].name;
   };
-  out += "  \"objects\": [";
+  std::string out = "  \"objects\": [";
   bool first = true;
   for (const auto& [id, entry] : objects) {
     const Instance& inst = scene.instances[entry.first_instance];
@@ -163,12 +169,19 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
     first = false;
   }
   out += "\n  ],\n";
+  return out;
+}
 
+// Every target: its labels, placement, image box, visible and unoccluded pixels (each target
+// rendered alone, render/coverage.h) and occlusion.
+std::string targets_json(const SceneFile& file, const RenderSettings& settings, const Image& image,
+                         const std::map<uint32_t, ObjectEntry>& objects, const std::map<uint32_t, Coverage>& visible) {
+  const Scene& scene = file.scene;
   std::vector<uint32_t> target_instances;
   for (const TargetInfo& t : file.targets) target_instances.push_back(t.instance);
   const std::vector<uint64_t> alone =
       unoccluded_pixels(scene, target_instances, image.width, image.height, settings.threads);
-  out += "  \"targets\": [";
+  std::string out = "  \"targets\": [";
   for (size_t i = 0; i < file.targets.size(); ++i) {
     const TargetInfo& t = file.targets[i];
     const auto v = visible.find(t.object_id);
@@ -182,11 +195,28 @@ std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, 
         "\"heading\": {}, \"bounds\": {}, \"image_box\": {}, \"visible_pixels\": {}, \"unoccluded_pixels\": {}, "
         "\"visible_fraction\": {}, \"occluded_fraction\": {}}}",
         i ? "," : "", json_string(t.name), t.object_id, json_string(scene.class_names[t.class_id]), t.class_id,
-        t.variant_id, vec3(t.position), number(t.heading_deg), bounds(objects[t.object_id].world), box, c.pixels,
+        t.variant_id, vec3(t.position), number(t.heading_deg), bounds(objects.at(t.object_id).world), box, c.pixels,
         alone[i], alone[i] > 0 ? number(fraction) : "null", alone[i] > 0 ? number(1.0 - fraction) : "null");
   }
   out += "\n  ]\n}\n";
   return out;
+}
+
+}  // namespace
+
+std::filesystem::path sidecar_path(const std::filesystem::path& exr) {
+  std::filesystem::path out = exr;
+  return out.replace_extension(".json");
+}
+
+std::string make_sidecar(const SceneFile& file, const RenderSettings& settings, const Image& image,
+                         const std::filesystem::path& exr) {
+  const int object_channel = image.find_channel("id.object");
+  if (object_channel < 0) throw Error("the label sidecar needs the id.object AOV");
+  const std::map<uint32_t, Coverage> visible = visible_objects(image, object_channel);
+  const std::map<uint32_t, ObjectEntry> objects = listed_objects(file, visible);
+  return header_json(file, settings, image, exr) + objects_json(file, objects, visible) +
+         targets_json(file, settings, image, objects, visible);
 }
 
 void write_sidecar(const std::filesystem::path& path, const SceneFile& file, const RenderSettings& settings,

@@ -23,7 +23,7 @@
 namespace sylva {
 namespace {
 
-const std::filesystem::path kSpecies = std::filesystem::path(SYLVA_SOURCE_DIR) / "data" / "species";
+const std::filesystem::path kSpeciesDir = std::filesystem::path(SYLVA_SOURCE_DIR) / "data" / "species";
 
 std::string read_text(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -31,7 +31,7 @@ std::string read_text(const std::filesystem::path& p) {
 }
 
 TEST(TreeMakerFile, ReadsThePapersDogwood) {
-  const TreeMakerTemplate t = load_treemaker_template(kSpecies / "dogwood.tmpl");
+  const TreeMakerTemplate t = load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
   EXPECT_EQ(t.iterations, 13);
   EXPECT_FLOAT_EQ(t.gravity, 0.08f);
   EXPECT_FLOAT_EQ(t.light.lambert, 0.4f);
@@ -194,7 +194,7 @@ TEST(TreeMakerFile, MissingSectionsAreNamed) {
 // Damaged templates either parse or throw a ParseError naming the file; none crashes or hangs,
 // and whatever parses also grows (or stops at the growth budget with a clear error).
 TEST(TreeMakerFile, DamagedTemplatesNeverCrash) {
-  const std::string base = read_text(kSpecies / "dogwood.tmpl");
+  const std::string base = read_text(kSpeciesDir / "dogwood.tmpl");
   ASSERT_GT(base.size(), 500u);
   Pcg32 rng(11);
   const char junk[] = "{}()=,:#\n 0123456789.e-+tolimbeafxyz\t";
@@ -219,7 +219,7 @@ TEST(TreeMakerFile, DamagedTemplatesNeverCrash) {
 // What makes the dogwood a flowering dogwood (§V): a short trunk branching low into a broad,
 // layered crown a few metres tall, about 60 % leaves and 40 % white flowers at the branch ends.
 TEST(TreeMakerFile, DogwoodGrowsIntoAFloweringTree) {
-  const TreeMakerTemplate t = load_treemaker_template(kSpecies / "dogwood.tmpl");
+  const TreeMakerTemplate t = load_treemaker_template(kSpeciesDir / "dogwood.tmpl");
   int ends = 0, flowers = 0;
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     const TreeModel m = make_treemaker_tree(t, seed);
