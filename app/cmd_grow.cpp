@@ -6,7 +6,6 @@
 #include "core/image.h"
 #include "core/progress.h"
 #include "geometry/mesh_io.h"
-#include "geometry/trees/hart_baker/rings.h"
 #include "geometry/trees/hart_baker/surface.h"
 #include "geometry/trees/tree_mesher.h"
 #include "pipeline/growth_frames.h"
@@ -128,13 +127,7 @@ int run_grow(const GrowArgs& a) {
     const float height = std::strtof(a.rings[0].c_str(), &end);
     if (end == a.rings[0].c_str() || *end != '\0' || !(height >= 0.0f))
       throw Error(fmt::format("--rings: expected a height in metres ≥ 0, got \"{}\"", a.rings[0]));
-    const TrunkRings rings = trunk_rings(tree, params, height);
-    if (rings.size() == 0) throw Error(fmt::format("--rings: the trunk does not reach {} m", height));
-    const std::filesystem::path png(a.rings[1]);
-    write_png_rgb8(png, 512, 512, ring_image_rgb8(rings, 512));
-    std::filesystem::path csv = png;
-    csv.replace_extension(".csv");
-    write_text_file(csv, ring_widths_csv(rings));
+    write_trunk_rings(a.rings[1], tree, params, height);
   }
   if (a.stats) {
     // The light of the grown tree, averaged over more directions than a year's sample.

@@ -1,6 +1,9 @@
 #include "pipeline/growth_frames.h"
 
+#include "core/error.h"
+#include "core/image.h"
 #include "core/progress.h"
+#include "geometry/trees/hart_baker/rings.h"
 #include "geometry/trees/hart_baker/surface.h"
 #include "pipeline/outputs.h"
 #include "render/renderer.h"
@@ -91,6 +94,16 @@ void write_growth_frames(const std::filesystem::path& dir, const std::vector<Har
     progress.add(1);
   }
   progress.finish();
+}
+
+void write_trunk_rings(const std::filesystem::path& png, const HartBakerTree& tree, const HartBakerParams& params,
+                       float height_m) {
+  const TrunkRings rings = trunk_rings(tree, params, height_m);
+  if (rings.size() == 0) throw Error(fmt::format("--rings: the trunk does not reach {} m", height_m));
+  write_png_rgb8(png, 512, 512, ring_image_rgb8(rings, 512));
+  std::filesystem::path csv = png;
+  csv.replace_extension(".csv");
+  write_text_file(csv, ring_widths_csv(rings));
 }
 
 }  // namespace sylva
