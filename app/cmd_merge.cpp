@@ -20,6 +20,7 @@ struct MergeOptions {
   bool partial = false;
   int threads = 0;
   bool quiet = false;
+  bool denoise = false;
 };
 
 std::string list(const std::vector<int>& v) {
@@ -34,6 +35,7 @@ int run_merge(const MergeOptions& opt) {
   call.exr = opt.exr;
   call.png = opt.png;
   call.request.threads = opt.threads;
+  call.denoise = opt.denoise;
   std::vector<std::filesystem::path> files(opt.parts.begin(), opt.parts.end());
   const MergeResult merged = merge_parts(files, opt.partial, call, observer);
   const int n = merged.header.chunk.count;
@@ -61,6 +63,7 @@ CommandRun add_merge_command(CLI::App& parent) {
   cmd->add_option("--png", opt->png, "PNG preview of the visible band (OCIO display transform)");
   cmd->add_flag("--partial", opt->partial, "Merge the chunks given even if some are missing (a preview)");
   cmd->add_option("--threads", opt->threads, "Worker threads (0 = all)")->check(CLI::Range(0, 4096));
+  cmd->add_flag("--denoise", opt->denoise, "Denoise the merged image (the parts rendered with --features)");
   cmd->add_flag("-q,--quiet", opt->quiet, "No summary");
   return [opt] { return run_merge(*opt); };
 }

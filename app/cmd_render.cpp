@@ -66,6 +66,10 @@ CommandRun add_render_command(CLI::App& parent) {
       ->check(kFiniteNumber & CLI::Range(-64.0, 64.0))
       ->each([opt](const std::string&) { opt->exposure_set = true; });
   cmd->add_option("--view", call.preview.view, "Preview view transform (Standard, ACES, Raw)");
+  cmd->add_flag("--features", req.features,
+                "Also write the denoiser's features and half-buffers (feature.*, even.*, odd.*; docs/denoise.md)");
+  cmd->add_flag("--denoise", call.denoise,
+                "Denoise the image (implies --features): the beauty denoised, the noisy one kept as noisy.*");
   cmd->add_flag("--resume", call.resume, "Continue from OUT.exr.checkpoint (left by an interrupted render)");
   cmd->add_option("--chunk", call.chunk, "Render only chunk i/N (0 <= i < N) to a partial file for sylva merge");
   cmd->add_option("--split", call.split, "How --chunk splits the work: samples (default) or tiles (bands of rows)")

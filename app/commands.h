@@ -44,6 +44,7 @@ CommandRun add_tree_command(CLI::App& parent);
 CommandRun add_export_command(CLI::App& parent);
 CommandRun add_golden_command(CLI::App& parent);
 CommandRun add_merge_command(CLI::App& parent);
+CommandRun add_denoise_command(CLI::App& parent);
 CommandRun add_grow_command(CLI::App& parent);
 CommandRun add_bands_command(CLI::App& parent);
 CommandRun add_measure_command(CLI::App& parent);

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   auto add = [&](sylva::CommandRun run) { commands.emplace_back(app.get_subcommands({}).back(), std::move(run)); };
   add(sylva::add_render_command(app));
   add(sylva::add_merge_command(app));
+  add(sylva::add_denoise_command(app));
   add(sylva::add_compare_command(app));
   add(sylva::add_tree_command(app));
   add(sylva::add_grow_command(app));

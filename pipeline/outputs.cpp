@@ -15,8 +15,6 @@
 
 namespace sylva {
 
-namespace {
-
 // Exposure for the preview: the median luminance of the visible band maps to 18% grey.
 float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& channels) {
   const int r = image.find_channel(channels[0]), g = image.find_channel(channels[1]),
@@ -32,8 +30,6 @@ float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& cha
   std::nth_element(lum.begin(), lum.begin() + lum.size() / 2, lum.end());
   return std::log2(0.18f / lum[lum.size() / 2]);
 }
-
-}  // namespace
 
 void check_render_outputs(const RenderJob& job, const OutputPaths& paths, const PreviewOverrides& preview,
                           bool memory_check) {

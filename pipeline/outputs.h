@@ -6,6 +6,7 @@
 
 #include "pipeline/scene_request.h"
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -38,6 +39,10 @@ Image annotated_image(const Renderer& renderer, const Film& film, const SceneFil
 void write_render_outputs(const Renderer& renderer, const Image& image, const SceneFile& file,
                           const std::filesystem::path& exr, const std::filesystem::path& png,
                           const PreviewOverrides& preview);
+
+// The exposure (stops) that maps the median luminance of `channels` (linear Rec.709) to 18 % grey:
+// the previews' auto exposure ([output] auto_exposure; sylva denoise --png).
+float auto_exposure_ev(const Image& image, const std::array<std::string, 3>& channels);
 
 // The PNG preview alone of an image made by `renderer` (the visible band, else its first band as
 // grey), with the scene's [output] view and exposure.

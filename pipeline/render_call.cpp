@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/output_paths.h"
+#include "denoise/denoise_image.h"
 #include "render/session.h"
 #include "scenes/sidecar.h"
 
@@ -18,6 +19,19 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The image the outputs are written from: annotated, and denoised when asked.
+Image output_image(const Renderer& renderer, const Film& film, const SceneFile& file, const RenderCallOptions& options,
+                   RenderObserver& observer) {
+  Image image = annotated_image(renderer, film, file);
+  if (!options.denoise) return image;
+  DenoiseSettings settings;
+  settings.threads = renderer.settings().threads;
+  DenoiseStats stats;
+  image = denoise_image(image, settings, &stats);
+  observer.on_message(fmt::format("denoised in {:.2f} s", stats.seconds));
+  return image;
+}
 
 std::string scene_stats_line(const EmbreeStats& es) {
   return fmt::format(
@@ -55,7 +69,7 @@ RenderResult render_film(const LoadedScene& loaded, RenderSettings settings, con
     return result;
   }
   observer.on_phase(RenderPhase::writing);
-  result.image = annotated_image(renderer, film, file);
+  result.image = output_image(renderer, film, file, options, observer);
   if (!result.outputs.exr.empty())
     write_render_outputs(renderer, result.image, file, result.outputs.exr, result.outputs.png, options.preview);
   return result;
@@ -91,7 +105,7 @@ RenderResult render_image(const LoadedScene& loaded, const RenderSettings& setti
   // write) loses no samples: resuming then only writes the outputs.
   session.save_checkpoint(rendered.film);
   observer.on_phase(RenderPhase::writing);
-  result.image = annotated_image(session.renderer(), rendered.film, file);
+  result.image = output_image(session.renderer(), rendered.film, file, options, observer);
   try {
     write_render_outputs(session.renderer(), result.image, file, outputs.exr, outputs.png, options.preview);
   } catch (const Error& e) {
@@ -141,6 +155,8 @@ LoadedScene load_render(const RenderCallOptions& options, RenderObserver& observ
   const bool chunk = !options.chunk.empty();
   if (chunk && !options.png.empty()) throw Error("--chunk writes a partial file; give --png to sylva merge");
   if (chunk && options.resume) throw Error("--chunk renders cannot be resumed; render the chunk again");
+  if (chunk && options.denoise)
+    throw Error("--chunk writes a partial file; give --denoise to sylva merge (render the chunks with --features)");
   if (chunk && (options.seams.film_source || options.seams.modify_scene))
     throw Error("a chunk of a split render is rendered from the scene as its file says");
   // The outputs named by the caller, against the scene file, before it is even loaded.
@@ -155,6 +171,7 @@ LoadedScene load_render(const RenderCallOptions& options, RenderObserver& observ
   if (seams.modify_scene) seams.modify_scene(job.file.scene);
   if (seams.isa) job.settings.isa = *seams.isa;
   if (seams.adjust_settings) seams.adjust_settings(job.settings);
+  if (options.denoise) job.settings.features = true;
   observe(job.settings, options, observer);
   observer.on_message(fmt::format("scene loaded in {:.2f} s", seconds_since(t0)));
   for (const std::string& w : job.file.warnings) observer.on_message(w);
@@ -282,7 +299,9 @@ MergeResult merge_parts(const std::vector<std::filesystem::path>& parts, bool al
   // The first-hit AOVs are traced again through pixel centres: the scene is loaded, not rendered.
   observer.on_phase(RenderPhase::writing);
   const Renderer renderer(job.file.scene, job.settings);
-  out.render.image = annotated_image(renderer, merged.film, job.file);
+  if (options.denoise && !job.settings.features)
+    throw Error("--denoise: the parts were rendered without --features; render them with --features");
+  out.render.image = output_image(renderer, merged.film, job.file, options, observer);
   out.render.film_samples = merged.film.total_samples();
   write_render_outputs(renderer, out.render.image, job.file, outputs.exr, outputs.png, options.preview);
   out.header = std::move(merged.header);

@@ -86,6 +86,10 @@ struct RenderCallOptions {
   bool memory_check = true;       // refuse a render that needs more memory than is available
   std::string chunk;              // "i/N": render one chunk to the partial file `exr` (render/chunk.h)
   std::string split = "samples";  // how a chunk splits the work: samples or tiles
+  // Denoise the finished image (denoise/denoise_image.h; implies the features): the EXR and the
+  // preview get the denoised beauty, the noisy one kept as noisy.<C>. Not for a chunk: give it to
+  // merge_parts.
+  bool denoise = false;
   RenderSeams seams;
 };
 

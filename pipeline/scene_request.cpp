@@ -85,6 +85,7 @@ RenderJob prepare_render(const RenderRequest& request) {
   if (!request.isa.empty()) settings.isa = parse_embree_isa(request.isa);
   if (!request.bands.empty()) settings.bands = resolve_bands(job.file, split_list(request.bands));
   settings.progress = request.progress;
+  settings.features = settings.features || request.features;
   return job;
 }
 
@@ -105,6 +106,7 @@ std::map<std::string, std::string> describe_job(const RenderRequest& request, co
       {"quantity", quantity_name(s.quantity)},
       {"isa", embree_isa_name(s.isa)}};
   // Hexadecimal: the exact double, so the merge rebuilds the same scene.
+  if (s.features) fields.emplace("features", "yes");
   if (request.time_s) fields["time"] = fmt::format("{:a}", *request.time_s);
   for (size_t i = 0; i < request.overrides.size(); ++i) fields[fmt::format("set_{}", i)] = request.overrides[i];
   return fields;
@@ -120,6 +122,7 @@ RenderRequest request_from_job(const std::map<std::string, std::string>& fields,
   r.bands = field(fields, "bands");
   if (const auto it = fields.find("quantity"); it != fields.end()) r.quantity = it->second;
   if (const auto it = fields.find("isa"); it != fields.end()) r.isa = it->second;
+  r.features = fields.count("features") > 0;
   for (size_t i = 0;; ++i) {
     const auto it = fields.find(fmt::format("set_{}", i));
     if (it == fields.end()) break;

@@ -44,6 +44,7 @@ struct RenderRequest {
   std::string isa;       // Embree's kernels (parse_embree_isa); empty: the scene file's
   int threads = 0;
   bool progress = false;
+  bool features = false;         // gather the denoiser's features (RenderSettings::features)
   std::optional<double> time_s;  // wind time of every tree (SceneOptions::time_s)
   // `section.key=value` overrides of the scene's TOML (--set; SceneOptions::overrides).
   std::vector<std::string> overrides;

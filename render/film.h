@@ -93,6 +93,9 @@ class Film {
   }
   uint32_t count(int x, int y) const { return count_[pixel(x, y)]; }
   double mean(int x, int y, int c) const;
+  // The running sums of channel c's sample values and of their squares.
+  double sum(int x, int y, int c) const { return sum_[pixel(x, y) * static_cast<size_t>(channels_) + c]; }
+  double sum_sq(int x, int y, int c) const { return sum_sq_[pixel(x, y) * static_cast<size_t>(channels_) + c]; }
   // Variance of the pixel mean (sample variance / n); 0 with fewer than two samples.
   double variance_of_mean(int x, int y, int c) const;
   uint64_t total_samples() const;

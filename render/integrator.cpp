@@ -85,13 +85,34 @@ LightSample Integrator::sample_light(const SampledWavelengths& wl, Pcg32& rng) c
   return environment_.sample(u_light, u_select, wl);
 }
 
-void Integrator::record_first_hit(const HitContext& si, const Bsdf& bsdf, float t, FirstHit* first) const {
+void Integrator::record_first_hit(const HitContext& si, const Bsdf& bsdf, const Ray& ray, float t,
+                                  FirstHit* first) const {
   first->hit = true;
   first->t = t;
   first->normal = si.ng;
   first->instance = si.instance + 1;
   first->object_id = si.object_id;
   first->albedo = bsdf.albedo();
+  if (settings_.first_hit_features) record_first_hit_features(si, ray, first);
+}
+
+void Integrator::record_first_hit_features(const HitContext& si, const Ray& ray, FirstHit* first) const {
+  first->shading_normal = glm::dot(si.ns, ray.direction) > 0 ? -si.ns : si.ns;
+  const uint32_t class_id = scene_.instances[si.instance].class_id;
+  if (class_id == kClassTerrain || class_id == kClassGrass)
+    first->feature_class = FeatureClass::kGround;
+  else
+    first->feature_class = si.leaf ? FeatureClass::kLeaf : FeatureClass::kBark;
+  // The sun's centre, seen from the side of the surface it lies on: a fixed direction, so no
+  // random number is drawn and the path's own are untouched.
+  first->sun = 0.0f;
+  if (environment_.sun_selection_probability() > 0) {
+    const Vec3& sun = environment_.sun_axis();
+    const Vec3 n = glm::dot(sun, si.ng) > 0 ? si.ng : -si.ng;
+    const bool blocked =
+        embree_.occluded(offset_ray_origin(si.p, n), sun, std::numeric_limits<float>::infinity(), si.instance);
+    first->sun = blocked ? 0.0f : 1.0f;
+  }
 }
 
 SampledSpectrum Integrator::sky_transmittance(const Vec3& o, const Vec3& d, const SampledWavelengths& wl,
@@ -251,7 +272,7 @@ void Integrator::scatter_in_haze(PathState& path, bool found, const RayHit& hit,
     HitContext si = interaction(ray, hit);
     si.front = glm::dot(-ray.direction, si.ng) > 0;
     si.wl = &wl;
-    record_first_hit(si, lobes_.bsdf(si), hit.t, path.first);
+    record_first_hit(si, lobes_.bsdf(si), ray, hit.t, path.first);
   }
   if (path.depth + 1 > settings_.max_depth) {
     path.alive = false;
@@ -339,7 +360,7 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
   // Emission: emitters are not sampled as lights, so a camera or BSDF-sampled ray that meets one
   // takes its whole radiance (the power heuristic's weight when the light-sampling pdf is 0).
   if (lobes_.emits(si.material)) path.L += path.beta * lobes_.emitted(si);
-  if (path.first && path.depth == 0) record_first_hit(si, bsdf, hit.t, path.first);
+  if (path.first && path.depth == 0) record_first_hit(si, bsdf, ray, hit.t, path.first);
   if (path.depth + 1 > settings_.max_depth) {
     path.alive = false;
     return;

@@ -29,6 +29,10 @@ namespace sylva {
 struct IntegratorSettings {
   int max_depth = 1024;    // scattering events per path: a safety cap
   int rr_start_depth = 3;  // Russian roulette from this bounce on
+  // Record the denoiser's first-hit features (FirstHit::shading_normal, feature_class, sun): one
+  // more occlusion ray per camera path that meets a surface. Changes no path's radiance or random
+  // numbers.
+  bool first_hit_features = false;
 };
 
 // A path's vertex on a surface, as every walk sees it (camera paths, the plot sensor's flux walk):
@@ -43,7 +47,16 @@ struct SurfaceVertex {
   Bsdf bsdf;
 };
 
-// First-hit data for the AOVs.
+// The denoiser's classes of a first hit (FirstHit::feature_class; docs/denoise.md).
+enum class FeatureClass : uint8_t {
+  kSky,     // no surface
+  kLeaf,    // a leaf quad or disc of anything but terrain and grass
+  kBark,    // any other surface: wood, meshes, targets
+  kGround,  // terrain and grass (Instance::class_id kClassTerrain, kClassGrass)
+};
+
+// First-hit data for the AOVs and, with IntegratorSettings::first_hit_features, the denoiser's
+// features.
 struct FirstHit {
   bool hit = false;
   float t = 0;
@@ -51,6 +64,12 @@ struct FirstHit {
   uint32_t instance = 0;  // 0 = background, else instance index + 1
   uint32_t object_id = 0;
   SampledSpectrum albedo{0.0f};
+  // Features (first_hit_features): the world shading normal turned to the camera ray's side, the
+  // class, and whether the sun's centre is visible from the hit (1) or blocked by a surface (0; 0
+  // without a sun). Turbid-crown collisions are not surfaces and record nothing.
+  Vec3 shading_normal{0.0f};
+  FeatureClass feature_class = FeatureClass::kSky;
+  float sun = 0;
 };
 
 // A next-event shadow ray waiting for its visibility test, and what its light adds when the ray
@@ -190,7 +209,9 @@ class Integrator {
   void cross_crown_boundary(PathState& path, const RayHit& hit, const HalfSpaceSolid& crown) const;
   void scatter_at_surface(PathState& path, const RayHit& hit) const;
   void roulette_then_next_bounce(PathState& path) const;
-  void record_first_hit(const HitContext& si, const Bsdf& bsdf, float t, FirstHit* first) const;
+  void record_first_hit(const HitContext& si, const Bsdf& bsdf, const Ray& ray, float t, FirstHit* first) const;
+  // The first-hit features of FirstHit (first_hit_features).
+  void record_first_hit_features(const HitContext& si, const Ray& ray, FirstHit* first) const;
 };
 
 // Moves `p` off the surface along `n` (the side the new ray leaves to) by a few ulps scaled with

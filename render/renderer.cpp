@@ -16,6 +16,23 @@
 
 namespace sylva {
 
+namespace {
+
+// The film's feature channels after each band channel's radiance and albedo (settings.features):
+// the even-sample beauty per band channel, then these.
+enum FeatureSlot { kNormalX, kNormalY, kNormalZ, kDepth, kSun, kLeaf, kBark, kGround, kSky, kFeatureSlots };
+constexpr const char* kFeatureNames[kFeatureSlots] = {"N.X",        "N.Y",        "N.Z",          "Z",        "sun",
+                                                      "class.leaf", "class.bark", "class.ground", "class.sky"};
+constexpr int kFeaturesWithVariance = kLeaf;  // normal, depth and sun
+static_assert(static_cast<int>(FeatureClass::kLeaf) == 1 && static_cast<int>(FeatureClass::kBark) == 2 &&
+              static_cast<int>(FeatureClass::kGround) == 3);
+
+int film_channels(size_t band_channels, bool features) {
+  return static_cast<int>(2 * band_channels + (features ? band_channels + kFeatureSlots : 0));
+}
+
+}  // namespace
+
 Renderer::Renderer(const Scene& scene, const EmbreeScene& embree, RenderSettings settings)
     : Renderer(scene, nullptr, &embree, std::move(settings), TransportFaults{}) {}
 
@@ -58,7 +75,10 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
       has_albedo_blocks_[c / 4][lane] = true;
     }
   }
-  integrator_ = std::make_unique<Integrator>(scene_, embree_, environment_, settings_.integrator, faults);
+  IntegratorSettings integrator = settings_.integrator;
+  integrator.first_hit_features = settings_.features;
+  integrator_ = std::make_unique<Integrator>(scene_, embree_, environment_, integrator, faults);
+  forward_ = glm::normalize(scene_.camera.target - scene_.camera.position);
   camera_ = Camera(scene_.camera, settings_.width, settings_.height);
   wavelengths_ = WavelengthSampler(settings_.bands);
 }
@@ -76,7 +96,8 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
   }
   const uint64_t copies = scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);
   MemoryEstimate m;
-  m.film_bytes = pixels * (2 * channels * 2 * sizeof(double) + sizeof(uint32_t));
+  m.film_bytes = pixels * (static_cast<uint64_t>(film_channels(channels, settings.features)) * 2 * sizeof(double) +
+                           sizeof(uint32_t));
   m.image_bytes = pixels * ((3 * channels + 8) * sizeof(float) + 3 * sizeof(float) + 3);
   m.bvh_bytes = primitives * kBvhBytesPerPrimitive + curves * kBvhBytesPerCurve +
                 copies * (uses_instance_array(scene) ? kArrayInstanceBytes : kNativeInstanceBytes);
@@ -86,12 +107,13 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
 Film Renderer::make_film() const { return make_film(image_region(), 0); }
 
 Film Renderer::make_film(const PixelRegion& window, uint32_t first_sample) const {
-  return Film(settings_.width, settings_.height, static_cast<int>(2 * channels_.size()), window, first_sample);
+  return Film(settings_.width, settings_.height, film_channels(channels_.size(), settings_.features), window,
+              first_sample);
 }
 
 void Renderer::check_film(const Film& film) const {
   if (film.width() != settings_.width || film.height() != settings_.height ||
-      film.channels() != static_cast<int>(2 * channels_.size()))
+      film.channels() != film_channels(channels_.size(), settings_.features))
     throw Error("film does not match the render settings");
 }
 
@@ -106,6 +128,7 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
   Pcg32 rngs[kBatch];
   FirstHit firsts[kBatch];
   PathState paths[kBatch];
+  Vec3 directions[kBatch];
   for (uint32_t batch = first_sample; batch < end_sample; batch += kBatch) {
     const int n = static_cast<int>(std::min<uint32_t>(kBatch, end_sample - batch));
     for (int k = 0; k < n; ++k) {
@@ -115,15 +138,17 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
       const Vec2 lens = uniform2(rng);
       const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
       firsts[k] = FirstHit{};
-      paths[k].start(camera_.generate_ray(film_pos, lens), wl, rng, &firsts[k]);
+      const Ray ray = camera_.generate_ray(film_pos, lens);
+      directions[k] = ray.direction;
+      paths[k].start(ray, wl, rng, &firsts[k]);
     }
     integrator_->trace_paths({paths, static_cast<size_t>(n)}, rays);
-    for (int k = 0; k < n; ++k) add_sample(film, x, y, paths[k].wl, paths[k].L, firsts[k]);
+    for (int k = 0; k < n; ++k) add_sample(film, x, y, paths[k].wl, paths[k].L, firsts[k], directions[k]);
   }
 }
 
 void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L,
-                          const FirstHit& first) const {
+                          const FirstHit& first, const Vec3& camera_direction) const {
   // A non-finite radiance never reaches the film; such a sample counts as black.
   bool finite = true;
   for (int i = 0; i < kLambdaCount; ++i) finite &= std::isfinite(L[i]);
@@ -145,7 +170,7 @@ void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl
     }
   }
   const size_t nc = channels_.size();
-  float values[2 * 64];
+  float values[3 * 64 + kFeatureSlots];
   for (size_t b = 0; b < nb; ++b) {
     const Vec4 vb = v[b] / static_cast<float>(kLambdaCount) * scale_blocks_[b];
     const Vec4 ab = a[b] / albedo_norm_blocks_[b];
@@ -154,7 +179,28 @@ void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl
       values[nc + 4 * b + k] = select(has_albedo_blocks_[b][k], ab[k], 0.0f);
     }
   }
+  if (settings_.features) feature_values(film, x, y, first, camera_direction, values);
   film.add_sample(x, y, values);
+}
+
+void Renderer::feature_values(const Film& film, int x, int y, const FirstHit& first, const Vec3& camera_direction,
+                              float* values) const {
+  const size_t nc = channels_.size();
+  // The half-buffers: the sample's beauty in the even channel when its index is even, else 0; the
+  // odd half is the whole minus the even (write_features).
+  const bool even = (film.first_sample() + film.count(x, y)) % 2 == 0;
+  for (size_t c = 0; c < nc; ++c) values[2 * nc + c] = even ? values[c] : 0.0f;
+  float* f = values + 3 * nc;
+  for (int i = 0; i < kFeatureSlots; ++i) f[i] = 0.0f;
+  if (!first.hit) {
+    f[kSun] = 1.0f;
+    f[kSky] = 1.0f;
+    return;
+  }
+  for (int i = 0; i < 3; ++i) f[kNormalX + i] = first.shading_normal[i];
+  f[kDepth] = first.t * glm::dot(camera_direction, forward_);
+  f[kSun] = first.sun;
+  f[kLeaf + static_cast<int>(first.feature_class) - 1] = 1.0f;  // kLeaf, kBark, kGround
 }
 
 namespace {
@@ -269,6 +315,15 @@ Image Renderer::make_image(const Film& film) const {
   add("id.object", PixelType::UInt);
   add("id.class", PixelType::UInt);
   add("id.variant", PixelType::UInt);
+  const int first_feature = static_cast<int>(names.size());
+  if (settings_.features) {
+    for (const char* half : {"even.", "odd."})
+      for (const auto& c : channels_.names) add(half + c, PixelType::Float);
+    for (const auto& c : channels_.names) add("feature.albedo." + c, PixelType::Float);
+    for (const char* f : kFeatureNames) add(std::string("feature.") + f, PixelType::Float);
+    for (int i = 0; i < kFeaturesWithVariance; ++i)
+      add(std::string("var.feature.") + kFeatureNames[i], PixelType::Float);
+  }
   check_film(film);
   const PixelRegion& window = film.window();
   Image image = sylva::make_image(window.width(), window.height(), names);
@@ -310,10 +365,32 @@ Image Renderer::make_image(const Film& film) const {
           // The sky: a point 10¹⁰ m along the ray, like Z.
           for (int i = 0; i < 3; ++i) image.at(ix, iy, z + 4 + i) = ray.origin[i] + 1e10f * ray.direction[i];
         }
+        if (settings_.features) write_features(image, film, x, y, first_feature);
       }
     });
   });
   return image;
+}
+
+void Renderer::write_features(Image& image, const Film& film, int x, int y, int first_channel) const {
+  const PixelRegion& window = film.window();
+  const int ix = x - window.x0, iy = y - window.y0, nc = static_cast<int>(channels_.size());
+  const uint64_t n = film.count(x, y), n_even = (n + 1) / 2, n_odd = n / 2;  // a whole film starts at sample 0
+  int out = first_channel;
+  for (int c = 0; c < nc; ++c) {
+    const double sum = film.sum(x, y, c), even = film.sum(x, y, 2 * nc + c);
+    image.at(ix, iy, out + c) = n_even ? static_cast<float>(even / static_cast<double>(n_even)) : 0.0f;
+    image.at(ix, iy, out + nc + c) = n_odd ? static_cast<float>((sum - even) / static_cast<double>(n_odd)) : 0.0f;
+  }
+  out += 2 * nc;
+  const int features = 3 * nc;
+  const double sky = film.mean(x, y, features + kSky);
+  for (int c = 0; c < nc; ++c) image.at(ix, iy, out + c) = static_cast<float>(film.mean(x, y, nc + c) + sky);
+  out += nc;
+  for (int i = 0; i < kFeatureSlots; ++i) image.at(ix, iy, out + i) = static_cast<float>(film.mean(x, y, features + i));
+  out += kFeatureSlots;
+  for (int i = 0; i < kFeaturesWithVariance; ++i)
+    image.at(ix, iy, out + i) = static_cast<float>(film.variance_of_mean(x, y, features + i));
 }
 
 }  // namespace sylva

@@ -33,6 +33,9 @@ struct RenderSettings {
   std::vector<Band> bands;  // at least one
   IntegratorSettings integrator;
   Quantity quantity = Quantity::radiance;
+  // Also gather the denoiser's features and half-buffers (make_image; docs/denoise.md): more film
+  // channels and one occlusion ray per camera path; the other channels keep their bits.
+  bool features = false;
   // Embree's kernels (EmbreeIsa): at most AVX2 unless asked, so the bits are the same on every
   // processor with AVX2.
   EmbreeIsa isa = EmbreeIsa::kAvx2;
@@ -115,6 +118,13 @@ class Renderer {
   // "P.X/P.Y/P.Z" (world position of the hit, m; for the sky the point 1e10 m along the ray),
   // "id.instance" (instance index + 1, 0 = sky), "id.object", "id.class" (Instance::class_id, 0 = sky)
   // and "id.variant" (Instance::variant_id, 0 = sky or none).
+  // With settings.features, after those, the denoiser's channels, each a mean over the pixel's
+  // samples (docs/denoise.md): "even.<C>" and "odd.<C>" (the means of the even- and odd-indexed
+  // samples of each band channel), "feature.albedo.<C>" (the albedo AOV with the sky counted as 1),
+  // "feature.N.X/Y/Z" (first-hit shading normal facing the camera; 0 for the sky), "feature.Z"
+  // (camera-space depth, m; 0 for the sky), "feature.sun" (the first hit sees the sun's centre;
+  // 1 for the sky), "feature.class.leaf/bark/ground/sky" (fractions of the samples, FeatureClass),
+  // and "var.feature.<F>" (variance of the mean) of the normal, depth and sun features.
   Image make_image(const Film& film) const;
 
   const RenderSettings& settings() const { return settings_; }
@@ -130,8 +140,13 @@ class Renderer {
   void check_film(const Film& film) const;
   void render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample, uint64_t& rays) const;
   // One path's radiance and first hit, weighted into the channels and added to pixel (x, y).
-  void add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L,
-                  const FirstHit& first) const;
+  void add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L, const FirstHit& first,
+                  const Vec3& camera_direction) const;
+  // The feature values of one sample (settings.features) after its band and albedo values.
+  void feature_values(const Film& film, int x, int y, const FirstHit& first, const Vec3& camera_direction,
+                      float* values) const;
+  // make_image's feature channels of pixel (x, y), from channel `first_channel` of the image on.
+  void write_features(Image& image, const Film& film, int x, int y, int first_channel) const;
 
   const Scene& scene_;
   RenderSettings settings_;
@@ -142,6 +157,7 @@ class Renderer {
   Camera camera_;
   WavelengthSampler wavelengths_;
   BandChannels channels_;  // the radiance channels, band after band
+  Vec3 forward_{0.0f};     // the camera's viewing direction (depth feature)
   // The radiance channels in blocks of four, the last padded with zeros: add_sample weighs a
   // sample into four channels per vector operation (bench/README.md, "Four at a time").
   size_t channel_blocks_ = 0;

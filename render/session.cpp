@@ -90,6 +90,7 @@ std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& 
                                 settings.seed, settings.width, settings.height, settings.integrator.max_depth);
   for (const Band& b : settings.bands) key += " " + b.name;
   if (settings.quantity != Quantity::radiance) key += fmt::format(" quantity {}", quantity_name(settings.quantity));
+  if (settings.features) key += " features";
   return key;
 }
 
