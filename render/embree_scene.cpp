@@ -1,9 +1,11 @@
 #include "render/embree_scene.h"
 
 #include "core/error.h"
-#include "geometry/grass.h"
-#include "geometry/leaf_shape.h"
+#include "render/cell_walk.h"
 #include "render/instance_sweep.h"
+#include "render/primitives/embree_geometry.h"
+#include "render/primitives/leaf_quads.h"
+#include "render/primitives/triangles.h"
 
 #include <embree3/rtcore.h>
 #include <fmt/core.h>
@@ -17,207 +19,11 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <limits>
 
 namespace sylva {
 
 namespace {
-
-// Every prototype's surfaces reach Embree as one primitive type, quads, because Embree builds a
-// BVH per primitive type in a scene and a ray would traverse each (bench/README.md, "One quad BVH
-// per prototype"). A quad (q0, q1, q2, q3) is Embree's two triangles (q0, q1, q3) and (q2, q3, q1);
-// a hit's (u, v) weigh q1 and q3 on the first half, and give (u+v−1)·q2 + (1−u)·q3 + (1−v)·q1 on the
-// second. A leaf is one quad (c0, c1, c2, c3): (u, v) are its quad coordinates. A grass ribbon is
-// a strip of quads. Mesh triangles are paired (MeshQuads).
-
-// A triangle mesh as quads: consecutive triangles (a, b, c), (a, c, d) — a quad split along its
-// diagonal a–c, as every mesher here emits them — become the one quad (b, c, d, a), whose halves
-// (b, c, a) and (d, a, c) are the two triangles; any other triangle (a, b, c) becomes (a, b, c, c),
-// whose second half is degenerate and never hit (Embree's triangle intersection, to the bit). The
-// pairs halve the primitives of a tube. Unless `pair`, every triangle stays alone: the weight
-// 1 − u − v of a paired hit is exact only to 6·10⁻⁸, which on a ground plane kilometres wide is
-// millimetres (robust prototypes are not paired).
-constexpr uint32_t kPairedQuad = 1u << 31;  // in MeshQuads::first: the quad holds two triangles
-
-struct MeshQuads {
-  std::vector<glm::uvec4> quads;
-  std::vector<uint32_t> first;  // per quad: its first triangle, | kPairedQuad when it holds two
-};
-
-MeshQuads mesh_quads(const std::vector<glm::uvec3>& triangles, bool pair) {
-  if (triangles.size() >= kPairedQuad)
-    throw Error(fmt::format("{} triangles are too many for one mesh", triangles.size()));
-  MeshQuads m;
-  m.quads.reserve(triangles.size());
-  m.first.reserve(triangles.size());
-  for (size_t i = 0; i < triangles.size(); ++i) {
-    const glm::uvec3 t = triangles[i];
-    if (pair && i + 1 < triangles.size() && triangles[i + 1].x == t.x && triangles[i + 1].y == t.z) {
-      m.quads.emplace_back(t.y, t.z, triangles[i + 1].z, t.x);
-      m.first.push_back(static_cast<uint32_t>(i) | kPairedQuad);
-      ++i;
-    } else {
-      m.quads.emplace_back(t.x, t.y, t.z, t.z);
-      m.first.push_back(static_cast<uint32_t>(i));
-    }
-  }
-  return m;
-}
-
-// A hit (u, v) on a mesh quad whose MeshQuads::first is `first`: the triangle, and its barycentrics
-// b1, b2 (the weights of its second and third corners, as Embree's triangles give them).
-struct TriangleHit {
-  uint32_t triangle;
-  float b1, b2;
-};
-TriangleHit mesh_triangle_hit(uint32_t first, float u, float v) {
-  if (!(first & kPairedQuad)) return {first, u, v};
-  const uint32_t t = first & ~kPairedQuad;
-  // (b, c, a) weighted (1−u−v, u, v) on the first half; (d, a, c) as above on the second.
-  if (u + v <= 1.0f) return {t, 1.0f - u - v, u};
-  return {t + 1, 1.0f - v, u + v - 1.0f};
-}
-
-// What the leaf filters read: the outlines, and the corners and stem index Integrator::interaction
-// will read for the closest hit. When every leaf of the geometry has one outline (the common case)
-// it is kept here, so a candidate hit costs no load of its own leaf's record.
-struct LeafFilterData {
-  const LeafShape* shapes = nullptr;
-  const Vec3* corners = nullptr;
-  const int32_t* stems = nullptr;  // null when the leaves carry no stem index
-  bool one_shape = false;
-  LeafShape shape = LeafShape::Rectangle;
-};
-
-// Leaf alpha: reject hits outside the leaf outline (Weber & Penn §4.5 leaf shapes). A candidate the
-// closest-hit query keeps may be the hit the integrator shades: its corners (and stem index) are
-// fetched now, while Embree goes on traversing, instead of stalling Integrator::interaction
-// (bench/README.md, "Memory stalls"). Shadow rays (kPrefetch false) never read them.
-// kOval: every leaf of the geometry is oval (Weber & Penn's default), tested inline.
-template <bool kPrefetch, bool kOval = false>
-void leaf_alpha_filter(const RTCFilterFunctionNArguments* args) {
-  const auto& data = *static_cast<const LeafFilterData*>(args->geometryUserPtr);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] != -1) continue;
-    const unsigned leaf = RTCHitN_primID(args->hit, args->N, i);
-    const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
-    bool inside;
-    if constexpr (kOval)
-      inside = inside_oval(u, v);
-    else
-      inside = leaf_shape_inside(data.one_shape ? data.shape : data.shapes[leaf], u, v);
-    if (!inside) {
-      args->valid[i] = 0;
-    } else if constexpr (kPrefetch) {
-      __builtin_prefetch(data.corners + 4 * size_t(leaf));
-      __builtin_prefetch(data.corners + 4 * size_t(leaf) + 3);
-      if (data.stems) __builtin_prefetch(data.stems + leaf);
-    }
-  }
-}
-
-// Half-space solids as user geometry (Fournier & Grindal §2.2, done per ray): one primitive per
-// solid; the ray arrives in the prototype's object space (Embree applies the instance transform).
-void solid_bounds(const RTCBoundsFunctionArguments* args) {
-  const auto* solids = static_cast<const HalfSpaceSolid*>(args->geometryUserPtr);
-  const Bounds3& b = solids[args->primID].bounds;
-  *args->bounds_o = RTCBounds{b.lo.x, b.lo.y, b.lo.z, 0.0f, b.hi.x, b.hi.y, b.hi.z, 0.0f};
-}
-
-void solid_intersect(const RTCIntersectFunctionNArguments* args) {
-  const auto* solids = static_cast<const HalfSpaceSolid*>(args->geometryUserPtr);
-  RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
-  RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] != -1) continue;
-    const Vec3 o(RTCRayN_org_x(ray, args->N, i), RTCRayN_org_y(ray, args->N, i), RTCRayN_org_z(ray, args->N, i));
-    const Vec3 d(RTCRayN_dir_x(ray, args->N, i), RTCRayN_dir_y(ray, args->N, i), RTCRayN_dir_z(ray, args->N, i));
-    SolidHit h;
-    if (!intersect_solid(solids[args->primID], o, d, RTCRayN_tnear(ray, args->N, i), RTCRayN_tfar(ray, args->N, i), &h))
-      continue;
-    RTCRayN_tfar(ray, args->N, i) = h.t;
-    RTCHitN_Ng_x(hit, args->N, i) = h.normal.x;
-    RTCHitN_Ng_y(hit, args->N, i) = h.normal.y;
-    RTCHitN_Ng_z(hit, args->N, i) = h.normal.z;
-    RTCHitN_u(hit, args->N, i) = 0.0f;
-    RTCHitN_v(hit, args->N, i) = 0.0f;
-    RTCHitN_primID(hit, args->N, i) = args->primID;
-    RTCHitN_geomID(hit, args->N, i) = args->geomID;
-    for (unsigned l = 0; l < RTC_MAX_INSTANCE_LEVEL_COUNT; ++l)
-      RTCHitN_instID(hit, args->N, i, l) = args->context->instID[l];
-  }
-}
-
-void solid_occluded(const RTCOccludedFunctionNArguments* args) {
-  const auto* solids = static_cast<const HalfSpaceSolid*>(args->geometryUserPtr);
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] != -1) continue;
-    const Vec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
-                 RTCRayN_org_z(args->ray, args->N, i));
-    const Vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
-                 RTCRayN_dir_z(args->ray, args->N, i));
-    // A turbid crown does not block shadow rays: the integrator attenuates them by Beer's law.
-    if (solids[args->primID].leaf_area_density > 0.0f) continue;
-    SolidHit h;
-    if (intersect_solid(solids[args->primID], o, d, RTCRayN_tnear(args->ray, args->N, i),
-                        RTCRayN_tfar(args->ray, args->N, i), &h))
-      RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
-  }
-}
-
-// Embree curves (round lines at range, exact grass ribbons): a ray leaving one (offset along the normal by a
-// few ulps) can re-hit it at t ≈ 0, since Embree's curve intersection is approximate at that scale;
-// hits closer than this are rejected in both the intersection and the occlusion filter. 0.1 mm is
-// below a line's width and above the re-hit distances (µm).
-constexpr float kCurveMinDistance_m = 1e-4f;
-
-void curve_near_filter(const RTCFilterFunctionNArguments* args) {
-  for (unsigned i = 0; i < args->N; ++i) {
-    if (args->valid[i] != -1) continue;
-    if (RTCRayN_tfar(args->ray, args->N, i) < kCurveMinDistance_m) args->valid[i] = 0;
-  }
-}
-
-// Grass ribbons reach Embree as strips of this many quads per blade (tessellate_ribbons): Embree's
-// normal-oriented Bézier curves cost about 40 % of the default forest's render time, flat pieces a
-// fraction of that, and six straight pieces follow a blade's arc to well under its width.
-constexpr int kRibbonSegments = 6;
-
-// A new index buffer of `g`, a quad geometry, filled with `quads`.
-void set_quads(RTCGeometry g, const std::vector<glm::uvec4>& quads) {
-  auto* idx = static_cast<unsigned*>(
-      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), quads.size()));
-  for (size_t i = 0; i < quads.size(); ++i)
-    for (int k = 0; k < 4; ++k) idx[4 * i + k] = quads[i][k];
-}
-
-// A new vertex buffer of `g` filled with `points`.
-void set_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
-  auto* v = static_cast<float*>(
-      rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), points.size()));
-  for (size_t i = 0; i < points.size(); ++i) {
-    v[3 * i] = points[i].x;
-    v[3 * i + 1] = points[i].y;
-    v[3 * i + 2] = points[i].z;
-  }
-}
-
-static_assert(sizeof(Vec3) == 3 * sizeof(float), "a Vec3 array is an Embree FLOAT3 vertex buffer");
-
-// The vertex buffer of `g`: `points` itself, shared with Embree rather than copied, when it has the
-// spare element past its end that Embree's 16-byte loads of the last vertex read (pad_for_vector_loads:
-// every prototype added by Scene::add_prototype has it); a copy otherwise. `points` must outlive the
-// scene and keep its storage (EmbreeScene's contract). Returns the bytes shared.
-size_t bind_vertices(RTCGeometry g, const std::vector<Vec3>& points) {
-  if (points.capacity() <= points.size()) {
-    set_vertices(g, points);
-    return 0;
-  }
-  rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, points.data(), 0, sizeof(Vec3),
-                             points.size());
-  return points.size() * sizeof(Vec3);
-}
 
 // Robust mode keeps grazing hits on large triangles (a ground plane to the horizon, a terrain)
 // watertight; it costs about 15 % of the traversal (bench/README.md), so it is set only where the
@@ -230,10 +36,8 @@ constexpr float kRobustExtent_m = 100.0f;
 // in world space (a plane may be a unit square scaled by its instance).
 std::vector<bool> robust_prototypes(const Scene& scene) {
   std::vector<Bounds3> object(scene.prototypes.size());
-  for (size_t p = 0; p < scene.prototypes.size(); ++p) {
-    for (const Vec3& v : scene.prototypes[p].triangles.positions) object[p].extend(v);
-    for (const Vec3& v : scene.prototypes[p].leaves.corners) object[p].extend(v);
-  }
+  for (size_t p = 0; p < scene.prototypes.size(); ++p)
+    object[p] = merged(triangles_bounds(scene.prototypes[p]), leaf_quads_bounds(scene.prototypes[p]));
   std::vector<bool> robust(scene.prototypes.size(), false);
   for (const Instance& inst : scene.instances) {
     if (inst.prototype >= object.size() || robust[inst.prototype] || object[inst.prototype].empty()) continue;
@@ -251,17 +55,6 @@ void error_callback(void*, RTCError code, const char* message) {
 
 // The nine cells of a cyclic plot's neighbourhood, in periods; the plot's own cell first.
 const Vec2 kCellShifts[9] = {{0, 0}, {-1, -1}, {0, -1}, {1, -1}, {-1, 0}, {1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-
-// A ray in a cyclic plot that crosses this many cell walls without hitting anything is taken to
-// escape: only rays within a few degrees of horizontal in an empty layer get this far.
-constexpr int kMaxCellCrossings = 4096;
-
-// `x` wrapped into [lo, lo + period).
-float wrap(float x, float lo, float period) {
-  float w = x - period * std::floor((x - lo) / period);
-  if (w >= lo + period) w -= period;
-  return w;
-}
 
 // The instance array (InstanceLevel::array): one user geometry over every placed copy. Primitive p
 // is copy k = p / count of instance i = p % count — the ids native instances would have — so a hit's
@@ -502,14 +295,8 @@ struct EmbreeScene::Impl {
   RTCDevice device = nullptr;
   RTCScene top = nullptr;
   std::vector<RTCScene> prototypes;
-  std::vector<unsigned> leaf_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
-  std::vector<unsigned> solid_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
-  std::vector<unsigned> curve_geom_id;  // per prototype; RTC_INVALID_GEOMETRY_ID if none
-  std::vector<uint8_t> embree_curves;   // per prototype: its curves are Embree curves, not strips
-  std::vector<unsigned> disc_geom_id;   // per prototype; RTC_INVALID_GEOMETRY_ID if none
+  std::vector<EmbreePrototype> geometry;  // per prototype: what its kinds left for decoding hits
   std::vector<uint32_t> instance_prototype;
-  std::vector<std::vector<uint32_t>> mesh_quad_first;  // per prototype: MeshQuads::first of its mesh
-  std::deque<LeafFilterData> leaf_filters;             // user data of the leaf geometries (stable addresses)
   // The instance array (uses_instance_array): per prototype its object-space bounds; `array` points
   // into them, the prototypes' scenes and the Scene's instances.
   std::vector<Bounds3> prototype_bounds;
@@ -530,75 +317,6 @@ struct EmbreeScene::Impl {
     if (device) rtcReleaseDevice(device);
   }
 };
-
-BvhBuild bvh_build_for(uint64_t path_samples) {
-  // About a minute of rendering on two cores: the thorough build's extra seconds pay for themselves.
-  constexpr uint64_t kThoroughFrom = uint64_t{1} << 24;
-  return path_samples >= kThoroughFrom ? BvhBuild::kThorough : BvhBuild::kFast;
-}
-
-namespace {
-
-struct IsaName {
-  EmbreeIsa isa;
-  const char* name;
-};
-constexpr IsaName kIsaNames[] = {{EmbreeIsa::kNative, "native"}, {EmbreeIsa::kSse2, "sse2"},
-                                 {EmbreeIsa::kSse42, "sse4.2"},  {EmbreeIsa::kAvx, "avx"},
-                                 {EmbreeIsa::kAvx2, "avx2"},     {EmbreeIsa::kAvx512, "avx512"}};
-
-// The widest set of Embree's kernels this processor runs (Embree's own feature tests).
-EmbreeIsa processor_isa() {
-  __builtin_cpu_init();
-  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
-                    __builtin_cpu_supports("bmi2");
-  if (avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-      __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl"))
-    return EmbreeIsa::kAvx512;
-  if (avx2) return EmbreeIsa::kAvx2;
-  if (__builtin_cpu_supports("avx")) return EmbreeIsa::kAvx;
-  if (__builtin_cpu_supports("sse4.2")) return EmbreeIsa::kSse42;
-  return EmbreeIsa::kSse2;
-}
-
-}  // namespace
-
-EmbreeIsa parse_embree_isa(const std::string& name) {
-  for (const IsaName& n : kIsaNames)
-    if (name == n.name) return n.isa;
-  throw Error(fmt::format(
-      "unknown instruction set '{}': expected \"native\", \"sse2\", \"sse4.2\", \"avx\", \"avx2\" or \"avx512\"",
-      name));
-}
-
-std::vector<std::string> embree_isa_names() {
-  std::vector<std::string> names;
-  for (const IsaName& n : kIsaNames) names.emplace_back(n.name);
-  return names;
-}
-
-const char* embree_isa_name(EmbreeIsa isa) {
-  for (const IsaName& n : kIsaNames)
-    if (isa == n.isa) return n.name;
-  return "native";
-}
-
-EmbreeIsa resolve_embree_isa(EmbreeIsa requested) {
-  static const EmbreeIsa widest = [] {
-    EmbreeIsa isa = processor_isa();
-    // Embree's own word on the widths it runs: a library built without its AVX-512 (or AVX)
-    // kernels falls back to the next it has.
-    RTCDevice device = rtcNewDevice("verbose=0");
-    if (!device) return isa;
-    if (isa == EmbreeIsa::kAvx512 && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED))
-      isa = EmbreeIsa::kAvx2;
-    if (isa >= EmbreeIsa::kAvx && !rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED))
-      isa = EmbreeIsa::kSse42;
-    rtcReleaseDevice(device);
-    return isa;
-  }();
-  return requested == EmbreeIsa::kNative ? widest : std::min(requested, widest);
-}
 
 EmbreeScene::EmbreeScene(const Scene& scene) : EmbreeScene(scene, TransportFaults{}, BvhBuild::kThorough) {}
 
@@ -625,150 +343,23 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
   RTCDevice device = impl_->device;
 
   const std::vector<bool> robust = robust_prototypes(scene);
-  impl_->mesh_quad_first.resize(scene.prototypes.size());
+  impl_->geometry.resize(scene.prototypes.size());
   for (size_t p = 0; p < scene.prototypes.size(); ++p) {
     const Prototype& proto = scene.prototypes[p];
+    validate_prototype(proto);
     RTCScene s = rtcNewScene(device);
     if (robust[p]) rtcSetSceneFlags(s, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(s, build == BvhBuild::kThorough ? RTC_BUILD_QUALITY_HIGH : RTC_BUILD_QUALITY_MEDIUM);
-    unsigned leaf_id = RTC_INVALID_GEOMETRY_ID;
-    const TriangleMesh& tm = proto.triangles;
-    if (!tm.triangles.empty()) {
-      for (size_t i = 0; i < tm.triangles.size(); ++i) {
-        const glm::uvec3 t = tm.triangles[i];
-        if (t.x >= tm.positions.size() || t.y >= tm.positions.size() || t.z >= tm.positions.size())
-          throw Error(fmt::format("prototype '{}': triangle {} indexes a missing vertex", proto.name, i));
-      }
-      MeshQuads mq = mesh_quads(tm.triangles, !robust[p]);
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-      stats_.shared_vertex_bytes += bind_vertices(g, tm.positions);
-      set_quads(g, mq.quads);
-      impl_->mesh_quad_first[p] = std::move(mq.first);
-      rtcCommitGeometry(g);
-      const unsigned id = rtcAttachGeometry(s, g);
-      rtcReleaseGeometry(g);
-      if (id != 0) throw Error("embree: unexpected triangle geometry id");
-      stats_.triangles += tm.triangles.size();
-    }
-    const LeafQuads& lq = proto.leaves;
-    if (lq.size() > 0) {
-      if (lq.corners.size() != 4 * lq.size())
-        throw Error(fmt::format("prototype '{}': leaf quads need 4 corners per leaf", proto.name));
-      if (!lq.stem.empty() && lq.stem.size() != lq.size())
-        throw Error(fmt::format("prototype '{}': leaf quads need one stem index per leaf (or none)", proto.name));
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-      stats_.shared_vertex_bytes += bind_vertices(g, lq.corners);
-      auto* idx = static_cast<unsigned*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), lq.size()));
-      for (size_t i = 0; i < 4 * lq.size(); ++i) idx[i] = static_cast<unsigned>(i);
-      LeafFilterData& filter = impl_->leaf_filters.emplace_back();
-      filter.shapes = lq.shapes.data();
-      filter.corners = lq.corners.data();
-      filter.stems = lq.stem.empty() ? nullptr : lq.stem.data();
-      filter.one_shape =
-          std::all_of(lq.shapes.begin(), lq.shapes.end(), [&](LeafShape s) { return s == lq.shapes[0]; });
-      filter.shape = lq.shapes[0];
-      rtcSetGeometryUserData(g, &filter);
-      const bool oval = filter.one_shape && filter.shape == LeafShape::Oval;
-      // Whole rectangles cut nothing: a shadow ray stops at the first without a callback (the
-      // closest-hit filter stays, for its prefetch).
-      const bool opaque = filter.one_shape && filter.shape == LeafShape::Rectangle;
-      rtcSetGeometryIntersectFilterFunction(g, oval ? leaf_alpha_filter<true, true> : leaf_alpha_filter<true>);
-      if (!faults.no_shadow_alpha && !opaque)
-        rtcSetGeometryOccludedFilterFunction(g, oval ? leaf_alpha_filter<false, true> : leaf_alpha_filter<false>);
-      rtcCommitGeometry(g);
-      leaf_id = rtcAttachGeometry(s, g);
-      rtcReleaseGeometry(g);
-      stats_.leaf_quads += lq.size();
-    }
-    unsigned solid_id = RTC_INVALID_GEOMETRY_ID;
-    if (!proto.solids.empty()) {
-      if (proto.solid_palettes.size() != proto.solids.size())
-        throw Error(fmt::format("prototype '{}': every solid needs a material palette", proto.name));
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-      rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(proto.solids.size()));
-      rtcSetGeometryUserData(g, const_cast<HalfSpaceSolid*>(proto.solids.data()));
-      rtcSetGeometryBoundsFunction(g, solid_bounds, nullptr);
-      rtcSetGeometryIntersectFunction(g, solid_intersect);
-      rtcSetGeometryOccludedFunction(g, solid_occluded);
-      rtcCommitGeometry(g);
-      solid_id = rtcAttachGeometry(s, g);
-      rtcReleaseGeometry(g);
-      stats_.solids += proto.solids.size();
-    }
-    unsigned curve_id = RTC_INVALID_GEOMETRY_ID;
-    const CurveSet& cs = proto.curves;
-    if (cs.size() > 0) {
-      if (cs.points.size() != 4 * cs.size() || cs.normals.size() != (cs.round ? 0 : cs.points.size()))
-        throw Error(
-            fmt::format("prototype '{}': curves need 4 control points each and, unless round, 4 normals", proto.name));
-      RTCGeometry g;
-      if (cs.round || cs.exact) {
-        // Round curves (stems drawn as lines, geometry/trees/lod.h) are Embree's round Bézier tubes;
-        // exact ribbons its normal-oriented Bézier curves.
-        g = rtcNewGeometry(
-            device, cs.round ? RTC_GEOMETRY_TYPE_ROUND_BEZIER_CURVE : RTC_GEOMETRY_TYPE_NORMAL_ORIENTED_BEZIER_CURVE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
-                                                              4 * sizeof(float), cs.points.size()));
-        auto* idx = static_cast<unsigned*>(
-            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), cs.size()));
-        for (size_t i = 0; i < cs.points.size(); ++i)
-          for (int k = 0; k < 4; ++k) v[4 * i + k] = cs.points[i][k];
-        if (!cs.round) {
-          auto* n = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3,
-                                                                3 * sizeof(float), cs.normals.size()));
-          for (size_t i = 0; i < cs.normals.size(); ++i)
-            for (int k = 0; k < 3; ++k) n[3 * i + k] = cs.normals[i][k];
-        }
-        for (size_t i = 0; i < cs.size(); ++i) idx[i] = static_cast<unsigned>(4 * i);
-        rtcSetGeometryIntersectFilterFunction(g, curve_near_filter);
-        rtcSetGeometryOccludedFilterFunction(g, curve_near_filter);
-      } else {
-        // Ribbons (grass blades) as quad strips.
-        std::vector<Vec3> points;
-        std::vector<glm::uvec4> strips;
-        tessellate_ribbons(cs, kRibbonSegments, points, strips);
-        g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_QUAD);
-        set_vertices(g, points);
-        set_quads(g, strips);
-      }
-      rtcCommitGeometry(g);
-      curve_id = rtcAttachGeometry(s, g);
-      rtcReleaseGeometry(g);
-      stats_.curves += cs.size();
-    }
-    unsigned disc_id = RTC_INVALID_GEOMETRY_ID;
-    const LeafDiscs& discs = proto.discs;
-    if (discs.size() > 0) {
-      if (discs.radius.size() != discs.size() || discs.normal.size() != discs.size())
-        throw Error(fmt::format("prototype '{}': leaf discs need a radius and a normal each", proto.name));
-      RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT);
-      auto* v = static_cast<float*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), discs.size()));
-      auto* n = static_cast<float*>(
-          rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), discs.size()));
-      for (size_t i = 0; i < discs.size(); ++i) {
-        v[4 * i] = discs.centre[i].x;
-        v[4 * i + 1] = discs.centre[i].y;
-        v[4 * i + 2] = discs.centre[i].z;
-        v[4 * i + 3] = discs.radius[i];
-        n[3 * i] = discs.normal[i].x;
-        n[3 * i + 1] = discs.normal[i].y;
-        n[3 * i + 2] = discs.normal[i].z;
-      }
-      rtcCommitGeometry(g);
-      disc_id = rtcAttachGeometry(s, g);
-      rtcReleaseGeometry(g);
-      stats_.discs += discs.size();
-    }
+    EmbreePrototype& e = impl_->geometry[p];
+    e.device = device;
+    e.scene = s;
+    e.robust = robust[p];
+    e.no_shadow_alpha = faults.no_shadow_alpha;
+    e.stats = &stats_;
+    attach_prototype(e, proto);
     rtcCommitScene(s);
     check(device, "building a prototype BVH");
     impl_->prototypes.push_back(s);
-    impl_->leaf_geom_id.push_back(leaf_id);
-    impl_->solid_geom_id.push_back(solid_id);
-    impl_->curve_geom_id.push_back(curve_id);
-    impl_->embree_curves.push_back(cs.round || cs.exact ? 1 : 0);
-    impl_->disc_geom_id.push_back(disc_id);
   }
 
   impl_->top = rtcNewScene(device);
@@ -814,46 +405,6 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
 }
 
 EmbreeScene::~EmbreeScene() = default;
-
-namespace {
-
-// Embree instances of `scene`: a cyclic plot's nine copies of each instance counted.
-size_t embree_instances(const Scene& scene) {
-  return scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);
-}
-
-}  // namespace
-
-bool uses_instance_array(const Scene& scene) {
-  switch (scene.instance_level) {
-    case InstanceLevel::native:
-    case InstanceLevel::sweep:
-      return false;
-    case InstanceLevel::array:
-      return true;
-    case InstanceLevel::automatic:
-      break;
-  }
-  return embree_instances(scene) >= kInstanceArrayThreshold;
-}
-
-bool uses_instance_sweep(const Scene& scene) {
-  switch (scene.instance_level) {
-    case InstanceLevel::native:
-    case InstanceLevel::array:
-      return false;
-    case InstanceLevel::sweep:
-      if (embree_instances(scene) > InstanceBoxes::kMaxCopies)
-        throw Error(
-            fmt::format("instancing = \"sweep\" takes at most {} copies, not {} (a cyclic plot counts nine "
-                        "of each instance): use \"auto\" or \"native\"",
-                        InstanceBoxes::kMaxCopies, embree_instances(scene)));
-      return true;
-    case InstanceLevel::automatic:
-      break;
-  }
-  return embree_instances(scene) <= InstanceBoxes::kMaxCopies;
-}
 
 // One Embree instance per copy: copy k of instance i has the Embree id k·N + i (copy 0 is the
 // instance itself, copies 1–8 its shifts by whole periods in a cyclic plot).
@@ -948,63 +499,6 @@ void EmbreeScene::add_instance_array(const Scene& scene, int copies) {
   rtcReleaseGeometry(g);
 }
 
-namespace {
-
-// A ray's walk through a cyclic plot's cell: the current origin (wrapped into the cell), the
-// distance travelled so far, and the length of the segment inside the cell.
-struct CellWalk {
-  Vec3 origin;
-  float travelled = 0;
-  float segment = 0;   // to the next side wall; infinity for a vertical ray
-  int exit_axis = -1;  // 0 = x, 1 = y wall at the segment's end
-};
-
-// Sets up the segment from walk.origin to the cell's side walls.
-void next_segment(CellWalk& walk, const Vec3& d, Vec2 lo, Vec2 hi) {
-  walk.segment = std::numeric_limits<float>::infinity();
-  walk.exit_axis = -1;
-  for (int a = 0; a < 2; ++a) {
-    if (d[a] == 0.0f) continue;
-    const float t = ((d[a] > 0 ? hi[a] : lo[a]) - walk.origin[a]) / d[a];
-    if (t < walk.segment) {
-      walk.segment = std::max(t, 0.0f);
-      walk.exit_axis = a;
-    }
-  }
-}
-
-// Moves the walk to the opposite wall at the end of its segment. False when the ray has left the
-// heights where geometry lies (or crossed too many walls): it escapes.
-bool cross_wall(CellWalk& walk, const Vec3& d, Vec2 lo, Vec2 hi, float z_lo, float z_hi, int& crossings) {
-  walk.origin += walk.segment * d;
-  walk.travelled += walk.segment;
-  const int a = walk.exit_axis;
-  walk.origin[a] = d[a] > 0 ? lo[a] : hi[a];
-  const int b = 1 - a;
-  walk.origin[b] = std::clamp(walk.origin[b], lo[b], hi[b]);
-  if ((walk.origin.z > z_hi && d.z >= 0) || (walk.origin.z < z_lo && d.z <= 0)) return false;
-  return ++crossings < kMaxCellCrossings;
-}
-
-// Starts a walk through a cyclic plot's cell: from the top (or bottom) of the geometry's heights
-// when the ray begins outside them, the origin wrapped into the cell. False when the ray never
-// reaches those heights.
-bool start_walk(float z_lo, float z_hi, Vec2 lo, Vec2 period, const Vec3& origin, const Vec3& d, CellWalk& walk) {
-  walk.origin = origin;
-  if (walk.origin.z > z_hi || walk.origin.z < z_lo) {
-    const float z = walk.origin.z > z_hi ? z_hi : z_lo;
-    if (d.z == 0.0f || (z - walk.origin.z) / d.z < 0) return false;
-    walk.travelled = (z - walk.origin.z) / d.z;
-    walk.origin += walk.travelled * d;
-    walk.origin.z = z;
-  }
-  walk.origin.x = wrap(walk.origin.x, lo.x, period.x);
-  walk.origin.y = wrap(walk.origin.y, lo.y, period.y);
-  return true;
-}
-
-}  // namespace
-
 bool EmbreeScene::intersect(const Ray& ray, RayHit* hit, uint32_t from) const {
   if (!impl_->cyclic) return intersect_cell(ray, hit, from);
   const Impl& m = *impl_;
@@ -1061,19 +555,22 @@ bool EmbreeScene::intersect_cell(const Ray& ray, RayHit* hit, uint32_t from) con
   hit->u = rh.hit.u;
   hit->v = rh.hit.v;
   if (hit->instance == RTC_INVALID_GEOMETRY_ID) return false;
-  const uint32_t proto = impl_->instance_prototype[hit->instance];
-  hit->leaf = rh.hit.geomID == impl_->leaf_geom_id[proto];
-  hit->solid = rh.hit.geomID == impl_->solid_geom_id[proto];
-  hit->curve = rh.hit.geomID == impl_->curve_geom_id[proto];
-  hit->disc = rh.hit.geomID == impl_->disc_geom_id[proto];
-  if (hit->curve && !impl_->embree_curves[proto]) hit->primitive = rh.hit.primID / kRibbonSegments;
-  if (!hit->leaf && !hit->solid && !hit->curve && !hit->disc) {
-    const TriangleHit t = mesh_triangle_hit(impl_->mesh_quad_first[proto][rh.hit.primID], rh.hit.u, rh.hit.v);
-    hit->primitive = t.triangle;
-    hit->u = t.b1;
-    hit->v = t.b2;
+  const EmbreePrototype& e = impl_->geometry[impl_->instance_prototype[hit->instance]];
+  hit->kind = e.kind_of[rh.hit.geomID];
+  switch (hit->kind) {
+    case PrimitiveKind::kTriangles:
+      decode_embree_triangle_hit(e, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+      break;
+    case PrimitiveKind::kCurves:
+      decode_embree_curve_hit(e, rh.hit.primID, Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), hit);
+      break;
+    case PrimitiveKind::kSolids:
+      hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+      break;
+    case PrimitiveKind::kLeafQuads:
+    case PrimitiveKind::kDiscs:
+      break;
   }
-  if (hit->solid || hit->curve) hit->normal = Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
   return true;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp (docs/design.md §6).
+// The Embree 3 backend. Every rtc* call in Sylva lives in embree_scene.cpp and, for each primitive
+// kind's geometry, in that kind's file under render/primitives/ (docs/design.md §6).
 // One BVH per prototype (triangles, leaf quads and grass ribbons as geometries of one Embree scene,
 // all handed to Embree as triangles; round curves and discs as Embree curves and points); placed
 // copies reach it either as one single-level Embree instance each, or — for many copies — as one
@@ -16,6 +17,7 @@
 // origin wrapped into the cell, its segments clipped at the cell's side walls and continued from
 // the opposite wall — so light leaving one side re-enters the other and none is lost.
 
+#include "render/primitives/ray_hit.h"
 #include "render/scene.h"
 #include "render/sensors/camera.h"
 #include "render/testing/faults.h"
@@ -27,24 +29,8 @@
 
 namespace sylva {
 
-// A closest hit. `instance` indexes Scene::instances; `primitive` indexes the instance's
-// prototype's triangles, or its leaf quads when `leaf` (then Prototype::leaves.stem[primitive], if
-// present, is the tree stem carrying the leaf).
 // No instance: a ray that leaves no surface (EmbreeScene::intersect's `from`).
 inline constexpr uint32_t kNoInstance = 0xffffffffu;
-
-struct RayHit {
-  float t = 0;  // along the ray as given (cyclic plots: the unwrapped distance)
-  uint32_t instance = 0;
-  bool leaf = false;   // hit a leaf quad (else a triangle or a solid)
-  bool solid = false;  // hit a solid: `primitive` indexes Prototype::solids
-  bool disc = false;   // hit a leaf disc: `primitive` indexes Prototype::discs
-  uint32_t primitive = 0;
-  float u = 0, v = 0;  // Embree's barycentrics (triangles) or quad coordinates (leaves)
-  Vec3 normal{0.0f};   // solids: the unit outward normal in object space; curves: the ribbon's
-                       // geometric normal in object space (not unit)
-  bool curve = false;  // hit a curve: `primitive` indexes Prototype::curves
-};
 
 // Embree instances (every copy of a cyclic plot counted) from which InstanceLevel::automatic uses
 // the instance array. Below it, native instances: every golden scene has fewer, so their

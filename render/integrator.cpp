@@ -4,6 +4,12 @@
 #include "core/simd.h"
 #include "render/materials/leaf_medium.h"
 #include "render/materials/material.h"
+#include "render/primitives/curves.h"
+#include "render/primitives/discs.h"
+#include "render/primitives/leaf_quads.h"
+#include "render/primitives/media.h"
+#include "render/primitives/solids.h"
+#include "render/primitives/triangles.h"
 
 #include <fmt/core.h>
 
@@ -47,17 +53,9 @@ Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Envi
       environment_(environment),
       settings_(settings),
       faults_(faults),
+      has_media_(has_turbid_crowns(scene)),
       haze_(scene.haze),
-      lobes_(scene.materials) {
-  for (const Prototype& p : scene.prototypes)
-    for (const HalfSpaceSolid& solid : p.solids) has_media_ = has_media_ || solid.leaf_area_density > 0.0f;
-}
-
-const HalfSpaceSolid* Integrator::turbid_solid(const RayHit& hit) const {
-  if (!hit.solid) return nullptr;
-  const HalfSpaceSolid& solid = scene_.prototypes[scene_.instances[hit.instance].prototype].solids[hit.primitive];
-  return solid.leaf_area_density > 0.0f ? &solid : nullptr;
-}
+      lobes_(scene.materials) {}
 
 float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& rays) const {
   if (!has_media_) return 1.0f;
@@ -69,14 +67,12 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
     RayHit hit;
     ++rays;
     if (!embree_.intersect(ray, &hit, from)) break;
-    const HalfSpaceSolid* medium = turbid_solid(hit);
-    if (medium == nullptr) return 0.0f;
-    // Unit, as offset_ray_origin expects: the normal matrix scales it by 1/scale for scaled crowns.
-    const Vec3 n = glm::normalize(normal_from_object(scene_.instances[hit.instance]) * hit.normal);
-    const bool entering = glm::dot(d, n) < 0.0f;
+    const HalfSpaceSolid* crown = turbid_crown(scene_, hit);
+    if (crown == nullptr) return 0.0f;
+    const CrownCrossing c = cross_crown(scene_, hit, *crown, d);
     // Leaving a crown: the segment since the last crossing (or the start) was inside it.
-    if (!entering) optical_depth += static_cast<double>(kSphericalG * medium->leaf_area_density) * hit.t;
-    ray = Ray{offset_ray_origin(ray.origin + hit.t * d, entering ? -n : n), d};
+    if (!c.entering) optical_depth += static_cast<double>(c.sigma_t) * hit.t;
+    ray = Ray{offset_ray_origin(ray.origin + hit.t * d, c.entering ? -c.normal : c.normal), d};
     from = hit.instance;
   }
   return static_cast<float>(std::exp(-optical_depth));
@@ -113,92 +109,25 @@ HitContext Integrator::interaction(const Ray& ray, const RayHit& hit) const {
   si.object_id = inst.object_id;
   si.prototype = inst.prototype;
   si.primitive = hit.primitive;
-  si.leaf = hit.leaf;
-  if (hit.solid) {
-    // A half-space solid (Fournier–Grindal): the point on the world ray, its texture looked up in
-    // the crown's own coordinates (§4) to pick the palette material.
-    si.p = ray.origin + hit.t * ray.direction;
-    const Vec3 p_obj = Vec3(glm::inverse(inst.world_from_object) * Vec4(si.p, 1.0f));
-    const std::vector<uint32_t>& palette = proto.solid_palettes[hit.primitive];
-    const HalfSpaceSolid& solid = proto.solids[hit.primitive];
-    si.material = palette[solid_palette_index(solid.colouring, p_obj, static_cast<uint32_t>(palette.size()))];
-    si.ng = glm::normalize(normal_from_object(inst) * hit.normal);
-    si.ns = si.ng;
-    return si;
+  // Each kind decodes its own hits (render/primitives/); meshes and leaf quads in object space,
+  // moved to the world by the code they share.
+  switch (hit.kind) {
+    case PrimitiveKind::kTriangles:
+      finish_surface_hit(ray, inst, decode_triangle_hit(proto, hit, si), si);
+      break;
+    case PrimitiveKind::kLeafQuads:
+      finish_surface_hit(ray, inst, decode_leaf_quad_hit(proto, hit, si), si);
+      break;
+    case PrimitiveKind::kSolids:
+      decode_solid_hit(ray, hit, inst, proto, si);
+      break;
+    case PrimitiveKind::kCurves:
+      decode_curve_hit(ray, hit, inst, proto, si);
+      break;
+    case PrimitiveKind::kDiscs:
+      decode_disc_hit(ray, hit, inst, proto, si);
+      break;
   }
-  if (hit.curve) {
-    // A grass blade: a thin two-sided leaf (reflectance and transmittance) at the hit point.
-    si.p = ray.origin + hit.t * ray.direction;
-    si.material = proto.curve_material;
-    const Vec3 n = normal_from_object(inst) * hit.normal;
-    const float ln = glm::length(n);
-    si.ng = ln > 0 ? n / ln : -ray.direction;
-    si.ns = si.ng;
-    return si;
-  }
-  if (hit.disc) {
-    // An exact leaf disc: the point on the world ray, the disc's normal as its upper side.
-    si.p = ray.origin + hit.t * ray.direction;
-    si.ng = glm::normalize(normal_from_object(inst) * proto.discs.normal[hit.primitive]);
-    si.ns = si.ng;
-    si.material = proto.disc_material;
-    si.leaf = true;
-    return si;
-  }
-  // Leaf quads and mesh triangles, the hits nearly every path meets: GLM's arithmetic in SSE
-  // registers (core/simd.h: the same operations in the same order, so the same bits).
-  using namespace simd;
-  // normal_from_object(inst): the cofactors of the linear part, signed by its determinant.
-  const Columns3 m = linear_part(inst.world_from_object);
-  Columns3 nfo{cross(m.c1, m.c2), cross(m.c2, m.c0), cross(m.c0, m.c1)};
-  if (dot(m.c0, nfo.c0) < 0) {
-    const __m128 sign = splat(-0.0f);
-    nfo = {_mm_xor_ps(nfo.c0, sign), _mm_xor_ps(nfo.c1, sign), _mm_xor_ps(nfo.c2, sign)};
-  }
-  __m128 p_obj, ng_obj, ns_obj = _mm_setzero_ps();
-  bool shading_normals = false;  // ns_obj differs from ng_obj (a mesh with vertex normals)
-  if (hit.leaf) {
-    const Vec3* c = &proto.leaves.corners[4 * size_t(hit.primitive)];
-    // Embree's quad parametrisation: triangle (c0,c1,c3) weighted (1−u−v, u, v) for u+v <= 1,
-    // (c2,c3,c1) weighted (u+v−1, 1−u, 1−v) beyond. Which half a ray meets is random: the corners
-    // and weights are selected, not branched on (the same arithmetic either way).
-    const bool far = hit.u + hit.v > 1.0f;
-    const __m128 a = load(far ? c[2] : c[0]);
-    const __m128 b = load(far ? c[3] : c[1]);
-    const __m128 d = load(far ? c[1] : c[3]);
-    const float wa = select(far, hit.u + hit.v - 1.0f, 1.0f - hit.u - hit.v);
-    const float wb = select(far, 1.0f - hit.u, hit.u), wd = select(far, 1.0f - hit.v, hit.v);
-    p_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(splat(wa), a), _mm_mul_ps(splat(wb), b)), _mm_mul_ps(splat(wd), d));
-    ng_obj = cross(_mm_sub_ps(b, a), _mm_sub_ps(d, a));
-    si.material = proto.leaf_material;
-    si.uv = Vec2(hit.u, hit.v);  // Embree's quad coordinates are the leaf's (geometry/mesh.h)
-    if (!proto.leaves.stem.empty()) si.stem = proto.leaves.stem[hit.primitive];
-  } else {
-    const TriangleMesh& mesh = proto.triangles;
-    const glm::uvec3 t = mesh.triangles[hit.primitive];
-    const __m128 b0 = splat(1.0f - hit.u - hit.v), b1 = splat(hit.u), b2 = splat(hit.v);
-    const __m128 p0 = load(mesh.positions[t.x]), p1 = load(mesh.positions[t.y]), p2 = load(mesh.positions[t.z]);
-    p_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(b0, p0), _mm_mul_ps(b1, p1)), _mm_mul_ps(b2, p2));
-    ng_obj = cross(_mm_sub_ps(p1, p0), _mm_sub_ps(p2, p0));
-    shading_normals = !mesh.normals.empty();
-    if (shading_normals)
-      ns_obj = _mm_add_ps(_mm_add_ps(_mm_mul_ps(b0, load(mesh.normals[t.x])), _mm_mul_ps(b1, load(mesh.normals[t.y]))),
-                          _mm_mul_ps(b2, load(mesh.normals[t.z])));
-    si.material = proto.triangle_material;
-    si.uv = Vec2(hit.u, hit.v);
-  }
-  si.p = store(transform_point(inst.world_from_object, p_obj));
-  const __m128 ng = transform(nfo, ng_obj);
-  const float lg = std::sqrt(dot(ng, ng));  // glm::length
-  si.ng = lg > 0 ? store(_mm_div_ps(ng, splat(lg))) : -ray.direction;
-  if (!shading_normals) {
-    si.ns = si.ng;  // what the lines below give for ns_obj = ng_obj, without computing it twice
-    return si;
-  }
-  const __m128 ns = transform(nfo, ns_obj);
-  const float ls = std::sqrt(dot(ns, ns));
-  si.ns = ls > 0 ? store(_mm_div_ps(ns, splat(ls))) : si.ng;
-  if (glm::dot(si.ns, si.ng) < 0) si.ns = -si.ns;
   return si;
 }
 
@@ -265,165 +194,177 @@ void Integrator::trace_paths(std::span<PathState> paths, uint64_t& rays) const {
 
 void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   // One bounce of the path: the body of radiance()'s loop, with the next-event shadow ray left in
-  // path.shadow for resolve_shadow(). The locals are the path's own (references into `path`).
-  Ray& ray = path.ray;
-  const SampledWavelengths& wl = path.wl;
-  Pcg32& rng = *path.rng;
-  FirstHit* first = path.first;
-  SampledSpectrum& L = path.L;
-  SampledSpectrum& beta = path.beta;
-  float& prev_pdf = path.prev_pdf;
-  float& sigma_t = path.sigma_t;
-  const int depth = path.depth;
-  ShadowQuery& shadow = path.shadow;
-  shadow.kind = ShadowQuery::Kind::kNone;
-  // `continue` of the loop this was: the next bounce (a crown crossing does not count as one).
-  const auto next_bounce = [&path](int increment = 1) { path.depth += increment; };
-  const auto end_path = [&path] { path.alive = false; };
-  // Russian roulette from rr_start_depth (survivors weighted 1/(1 − q)), then the next bounce.
-  const auto roulette_then_next_bounce = [&] {
-    if (depth + 1 >= settings_.rr_start_depth) {
-      const float q = std::max(0.05f, 1.0f - max_component(beta));
-      if (rng.uniform() < q) return end_path();
-      beta /= 1.0f - q;
-    }
-    if (is_black(beta)) return end_path();
-    next_bounce();
-  };
-
+  // path.shadow for resolve_shadow(). The nearest of three events ends the ray: a collision in the
+  // haze, a collision with a turbid crown's leaves (free-flight sampling), or the surface hit.
+  path.shadow.kind = ShadowQuery::Kind::kNone;
+  const Ray& ray = path.ray;
   const float t_surface = found ? hit.t : std::numeric_limits<float>::infinity();
-  // Free-flight sampling: a collision with a leaf before the next surface scatters the path.
-  const float s_crown = sigma_t > 0.0f ? -std::log(1.0f - rng.uniform()) / sigma_t : t_surface;
+  const float s_crown = path.sigma_t > 0.0f ? -std::log(1.0f - path.rng->uniform()) / path.sigma_t : t_surface;
   if (haze_.enabled()) {
     // The haze's collision competes with the crown's and the surface (independent media: the
     // nearer event happens; docs/radiometry.md, "Haze").
-    const float s = haze_.sample_scattering(ray.origin, ray.direction, std::min(s_crown, t_surface), wl, rng, beta,
-                                            path.haze_ratio);
-    if (s < std::numeric_limits<float>::infinity()) {
-      // The AOVs describe the first surface on the camera ray whether or not the haze scatters
-      // the path before it.
-      if (first && depth == 0 && found && !turbid_solid(hit)) {
-        HitContext si = interaction(ray, hit);
-        si.front = glm::dot(-ray.direction, si.ng) > 0;
-        si.wl = &wl;
-        record_first_hit(si, lobes_.bsdf(si), hit.t, first);
-      }
-      if (depth + 1 > settings_.max_depth) return end_path();
-      const Vec3 p = ray.origin + s * ray.direction;
-      const float g = haze_.desc().g;
-      if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
-        {
-          const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
-          const float w = power_heuristic(ls.pdf, phase);
-          shadow = ShadowQuery{ShadowQuery::Kind::kSky, kNoInstance, p, ls.wi, beta, SampledSpectrum(1.0f), ls.radiance,
-                               phase * w / ls.pdf};
-        }
-      }
-      const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
-      prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
-      ray = Ray{p, wi};
-      path.from = kNoInstance;
-      return roulette_then_next_bounce();
-    }
+    const float s = haze_.sample_scattering(ray.origin, ray.direction, std::min(s_crown, t_surface), path.wl, *path.rng,
+                                            path.beta, path.haze_ratio);
+    if (s < std::numeric_limits<float>::infinity()) return scatter_in_haze(path, found, hit, s);
   }
-  if (sigma_t > 0.0f) {
-    const float s = s_crown;
-    if (s < t_surface) {
-      if (depth + 1 > settings_.max_depth) return end_path();
-      const Vec3 p = ray.origin + s * ray.direction;
-      HitContext in_crown;  // a leaf of the crown's material, seen from its front
-      in_crown.p = p;
-      in_crown.material = path.medium_material;
-      in_crown.wl = &wl;
-      const Bsdf leaf = lobes_.bsdf(in_crown);
-      const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
-      if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
-        {
-          const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
-          if (!is_black(f)) {
-            const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
-            shadow = ShadowQuery{haze_.enabled() ? ShadowQuery::Kind::kSkyLeaf : ShadowQuery::Kind::kCrownLeaf,
-                                 kNoInstance,
-                                 p,
-                                 ls.wi,
-                                 beta,
-                                 f,
-                                 ls.radiance,
-                                 w,
-                                 ls.pdf};
-          }
-        }
-      }
-      const Vec2 u_normal = uniform2(rng), u_direction = uniform2(rng);
-      const float u_lobe = rng.uniform();
-      LeafPhaseSample ps;
-      if (!sample_leaf_phase(phase, ray.direction, u_normal, u_direction, u_lobe, &ps)) return end_path();
-      beta *= ps.weight;
-      prev_pdf = ps.pdf;
-      ray = Ray{p, ps.direction};
-      path.from = kNoInstance;
-      return roulette_then_next_bounce();
-    }
-  }
+  if (path.sigma_t > 0.0f && s_crown < t_surface) return scatter_in_crown(path, s_crown);
   if (found) {
-    if (const HalfSpaceSolid* medium = turbid_solid(hit)) {
-      const Vec3 n = glm::normalize(normal_from_object(scene_.instances[hit.instance]) * hit.normal);
-      const bool entering = glm::dot(ray.direction, n) < 0.0f;
-      if (entering) {
-        const Prototype& proto = scene_.prototypes[scene_.instances[hit.instance].prototype];
-        sigma_t = kSphericalG * medium->leaf_area_density;
-        path.medium_material = proto.solid_palettes[hit.primitive].front();
-      } else {
-        sigma_t = 0.0f;
-      }
-      ray = Ray{offset_ray_origin(ray.origin + hit.t * ray.direction, entering ? -n : n), ray.direction};
-      path.from = hit.instance;
-      if (++path.crossings > 1024) return end_path();
-      return next_bounce(0);
-    }
+    if (const HalfSpaceSolid* crown = turbid_crown(scene_, hit)) return cross_crown_boundary(path, hit, *crown);
   }
   if (!found) {
-    const SampledSpectrum le = environment_.eval(ray.direction, wl);
-    if (depth == 0 || faults_.mis_weight_one) {
-      L += beta * le;
+    const SampledSpectrum le = environment_.eval(ray.direction, path.wl);
+    if (path.depth == 0 || faults_.mis_weight_one) {
+      path.L += path.beta * le;
     } else {
-      L += beta * le * power_heuristic(prev_pdf, environment_.pdf(ray.direction));
+      path.L += path.beta * le * power_heuristic(path.prev_pdf, environment_.pdf(ray.direction));
     }
-    return end_path();
+    path.alive = false;
+    return;
   }
+  scatter_at_surface(path, hit);
+}
+
+void Integrator::roulette_then_next_bounce(PathState& path) const {
+  // Russian roulette from rr_start_depth (survivors weighted 1/(1 − q)), then the next bounce.
+  if (path.depth + 1 >= settings_.rr_start_depth) {
+    const float q = std::max(0.05f, 1.0f - max_component(path.beta));
+    if (path.rng->uniform() < q) {
+      path.alive = false;
+      return;
+    }
+    path.beta /= 1.0f - q;
+  }
+  if (is_black(path.beta)) {
+    path.alive = false;
+    return;
+  }
+  path.depth += 1;
+}
+
+void Integrator::scatter_in_haze(PathState& path, bool found, const RayHit& hit, float s) const {
+  Ray& ray = path.ray;
+  const SampledWavelengths& wl = path.wl;
+  Pcg32& rng = *path.rng;
+  // The AOVs describe the first surface on the camera ray whether or not the haze scatters the path
+  // before it.
+  if (path.first && path.depth == 0 && found && !turbid_crown(scene_, hit)) {
+    HitContext si = interaction(ray, hit);
+    si.front = glm::dot(-ray.direction, si.ng) > 0;
+    si.wl = &wl;
+    record_first_hit(si, lobes_.bsdf(si), hit.t, path.first);
+  }
+  if (path.depth + 1 > settings_.max_depth) {
+    path.alive = false;
+    return;
+  }
+  const Vec3 p = ray.origin + s * ray.direction;
+  const float g = haze_.desc().g;
+  if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+    const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
+    const float w = power_heuristic(ls.pdf, phase);
+    path.shadow =
+        ShadowQuery{ShadowQuery::Kind::kSky, kNoInstance, p, ls.wi, path.beta, SampledSpectrum(1.0f), ls.radiance,
+                    phase * w / ls.pdf};
+  }
+  const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
+  path.prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
+  ray = Ray{p, wi};
+  path.from = kNoInstance;
+  roulette_then_next_bounce(path);
+}
+
+void Integrator::scatter_in_crown(PathState& path, float s) const {
+  Ray& ray = path.ray;
+  const SampledWavelengths& wl = path.wl;
+  Pcg32& rng = *path.rng;
+  if (path.depth + 1 > settings_.max_depth) {
+    path.alive = false;
+    return;
+  }
+  const Vec3 p = ray.origin + s * ray.direction;
+  HitContext in_crown;  // a leaf of the crown's material, seen from its front
+  in_crown.p = p;
+  in_crown.material = path.medium_material;
+  in_crown.wl = &wl;
+  const Bsdf leaf = lobes_.bsdf(in_crown);
+  const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
+  if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+    const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
+    if (!is_black(f)) {
+      const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
+      path.shadow = ShadowQuery{haze_.enabled() ? ShadowQuery::Kind::kSkyLeaf : ShadowQuery::Kind::kCrownLeaf,
+                                kNoInstance,
+                                p,
+                                ls.wi,
+                                path.beta,
+                                f,
+                                ls.radiance,
+                                w,
+                                ls.pdf};
+    }
+  }
+  const Vec2 u_normal = uniform2(rng), u_direction = uniform2(rng);
+  const float u_lobe = rng.uniform();
+  LeafPhaseSample ps;
+  if (!sample_leaf_phase(phase, ray.direction, u_normal, u_direction, u_lobe, &ps)) {
+    path.alive = false;
+    return;
+  }
+  path.beta *= ps.weight;
+  path.prev_pdf = ps.pdf;
+  ray = Ray{p, ps.direction};
+  path.from = kNoInstance;
+  roulette_then_next_bounce(path);
+}
+
+void Integrator::cross_crown_boundary(PathState& path, const RayHit& hit, const HalfSpaceSolid& crown) const {
+  // Crossing a crown's boundary is not a scattering event and does not count towards the depth.
+  Ray& ray = path.ray;
+  const CrownCrossing c = cross_crown(scene_, hit, crown, ray.direction);
+  path.sigma_t = c.entering ? c.sigma_t : 0.0f;
+  if (c.entering) path.medium_material = c.material;
+  ray = Ray{offset_ray_origin(ray.origin + hit.t * ray.direction, c.entering ? -c.normal : c.normal), ray.direction};
+  path.from = hit.instance;
+  if (++path.crossings > 1024) path.alive = false;
+}
+
+void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
+  Ray& ray = path.ray;
+  const SampledWavelengths& wl = path.wl;
+  Pcg32& rng = *path.rng;
   const SurfaceVertex v = surface_vertex(ray, hit, wl);
   const HitContext& si = v.ctx;
   const Vec3& ng = v.ng;
-  const Frame& frame = v.frame;
   const Bsdf& bsdf = v.bsdf;
   // Emission: emitters are not sampled as lights, so a camera or BSDF-sampled ray that meets one
   // takes its whole radiance (the power heuristic's weight when the light-sampling pdf is 0).
-  if (lobes_.emits(si.material)) L += beta * lobes_.emitted(si);
-  if (first && depth == 0) record_first_hit(si, bsdf, hit.t, first);
-  if (depth + 1 > settings_.max_depth) return end_path();
+  if (lobes_.emits(si.material)) path.L += path.beta * lobes_.emitted(si);
+  if (path.first && path.depth == 0) record_first_hit(si, bsdf, hit.t, path.first);
+  if (path.depth + 1 > settings_.max_depth) {
+    path.alive = false;
+    return;
+  }
   const Vec3& wo_local = v.wo_local;
 
   // Next-event estimation towards the sun + sky mixture.
   if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
-    {
-      const Vec3 wi_local = frame.to_local(ls.wi);
-      const float cos_g = glm::dot(ls.wi, ng);
-      const bool transmits = cos_g < 0;
-      // The geometric and shading sides must agree, or light would leak through the surface.
-      if ((wi_local.z > 0) == !transmits && cos_g != 0) {
-        const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
-        if (!is_black(f)) {
-          const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
-          shadow = ShadowQuery{ShadowQuery::Kind::kSurface,
-                               si.instance,
-                               offset_ray_origin(si.p, transmits ? -ng : ng),
-                               ls.wi,
-                               beta * f * std::abs(wi_local.z),
-                               SampledSpectrum(1.0f),
-                               ls.radiance,
-                               w,
-                               ls.pdf};
-        }
+    const Vec3 wi_local = v.frame.to_local(ls.wi);
+    const float cos_g = glm::dot(ls.wi, ng);
+    const bool transmits = cos_g < 0;
+    // The geometric and shading sides must agree, or light would leak through the surface.
+    if ((wi_local.z > 0) == !transmits && cos_g != 0) {
+      const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
+      if (!is_black(f)) {
+        const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
+        path.shadow = ShadowQuery{ShadowQuery::Kind::kSurface,
+                                  si.instance,
+                                  offset_ray_origin(si.p, transmits ? -ng : ng),
+                                  ls.wi,
+                                  path.beta * f * std::abs(wi_local.z),
+                                  SampledSpectrum(1.0f),
+                                  ls.radiance,
+                                  w,
+                                  ls.pdf};
       }
     }
   }
@@ -431,10 +372,12 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   // Continue the path by sampling the BSDF.
   const Vec2 u_bsdf = uniform2(rng);
   const float u_lobe = rng.uniform();
-  if (!scatter(v, u_bsdf, u_lobe, beta, prev_pdf, ray)) return end_path();
+  if (!scatter(v, u_bsdf, u_lobe, path.beta, path.prev_pdf, ray)) {
+    path.alive = false;
+    return;
+  }
   path.from = si.instance;
-
-  return roulette_then_next_bounce();
+  roulette_then_next_bounce(path);
 }
 
 void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {

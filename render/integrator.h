@@ -181,9 +181,16 @@ class Integrator {
   // path.shadow and the next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
   void advance(PathState& path, bool found, const RayHit& hit) const;
   void resolve_shadow(PathState& path, uint64_t& rays) const;
+  // advance()'s events: a collision in the haze at distance s, a collision with the leaves of the
+  // turbid crown the path is in, the crossing of a crown's boundary, a surface. Each leaves the
+  // shadow ray and the next ray; the scattering ones end with roulette_then_next_bounce (Russian
+  // roulette from rr_start_depth, then depth + 1).
+  void scatter_in_haze(PathState& path, bool found, const RayHit& hit, float s) const;
+  void scatter_in_crown(PathState& path, float s) const;
+  void cross_crown_boundary(PathState& path, const RayHit& hit, const HalfSpaceSolid& crown) const;
+  void scatter_at_surface(PathState& path, const RayHit& hit) const;
+  void roulette_then_next_bounce(PathState& path) const;
   void record_first_hit(const HitContext& si, const Bsdf& bsdf, float t, FirstHit* first) const;
-  // The turbid crown a hit is on, or nullptr.
-  const HalfSpaceSolid* turbid_solid(const RayHit& hit) const;
 };
 
 // Moves `p` off the surface along `n` (the side the new ray leaves to) by a few ulps scaled with

@@ -16,22 +16,6 @@
 
 namespace sylva {
 
-const char* quantity_name(Quantity q) { return q == Quantity::reflectance ? "reflectance" : "radiance"; }
-
-Quantity parse_quantity(const std::string& name) {
-  if (name == "radiance") return Quantity::radiance;
-  if (name == "reflectance") return Quantity::reflectance;
-  throw Error("quantity must be \"radiance\" or \"reflectance\", not \"" + name + "\"");
-}
-
-std::vector<float> channel_irradiance(const Environment& environment, const std::vector<Band>& bands) {
-  const DenseSpectrum e = environment.horizontal_irradiance();
-  std::vector<float> out;
-  for (const Band& b : bands)
-    for (const DenseSpectrum& w : b.weights) out.push_back(static_cast<float>(e.integral_product(w)));
-  return out;
-}
-
 Renderer::Renderer(const Scene& scene, const EmbreeScene& embree, RenderSettings settings)
     : Renderer(scene, nullptr, &embree, std::move(settings), TransportFaults{}) {}
 
@@ -53,28 +37,21 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
   if (settings_.spp <= 0) throw Error("samples per pixel must be positive");
   if (settings_.bands.empty()) throw Error("no bands to render");
   if (settings_.integrator.max_depth < 1) throw Error("maximum depth must be at least 1");
-  std::vector<const DenseSpectrum*> weights;
-  for (const Band& b : settings_.bands)
-    for (size_t c = 0; c < b.channels.size(); ++c) {
-      channels_.push_back(b.channels[c]);
-      weights.push_back(&b.weights[c]);
-    }
-  if (channels_.size() > 64) throw Error("too many band channels (at most 64)");
+  if (band_channel_count(settings_.bands) > 64) throw Error("too many band channels (at most 64)");
+  environment_ = Environment(scene_.sun, scene_.sky);
+  channels_ = BandChannels(settings_.bands, environment_, settings_.quantity);
+  const std::vector<const DenseSpectrum*>& weights = channels_.weights;
   channel_blocks_ = (weights.size() + 3) / 4;
   interleaved_weights_.assign(static_cast<size_t>(kLambdaSamples) * channel_blocks_, Vec4(0.0f));
   for (int i = 0; i < kLambdaSamples; ++i)
     for (size_t c = 0; c < weights.size(); ++c)
       interleaved_weights_[i * channel_blocks_ + c / 4][static_cast<int>(c % 4)] = (*weights[c])[i];
-  environment_ = Environment(scene_.sun, scene_.sky);
-  irradiance_ = channel_irradiance(environment_, settings_.bands);
   scale_blocks_.assign(channel_blocks_, Vec4(0.0f));
   albedo_norm_blocks_.assign(channel_blocks_, Vec4(1.0f));
   has_albedo_blocks_.assign(channel_blocks_, glm::bvec4(false));
   for (size_t c = 0; c < channels_.size(); ++c) {
-    if (settings_.quantity == Quantity::reflectance && !(irradiance_[c] > 0))
-      throw Error("reflectance: channel " + channels_[c] + " receives no irradiance from the sun and sky");
     const int lane = static_cast<int>(c % 4);
-    scale_blocks_[c / 4][lane] = settings_.quantity == Quantity::reflectance ? kPi / irradiance_[c] : 1.0f;
+    scale_blocks_[c / 4][lane] = channels_.scale[c];
     const auto weight_integral = static_cast<float>(weights[c]->integral());  // ∫ w_c dλ, for the albedo AOV
     if (weight_integral != 0) {
       albedo_norm_blocks_[c / 4][lane] = kLambdaCount * weight_integral;
@@ -278,9 +255,9 @@ Image Renderer::make_image(const Film& film) const {
     names.push_back(std::move(n));
     types.push_back(t);
   };
-  for (const auto& c : channels_) add(c, PixelType::Float);
-  for (const auto& c : channels_) add("var." + c, PixelType::Float);
-  for (const auto& c : channels_) add("albedo." + c, PixelType::Half);
+  for (const auto& c : channels_.names) add(c, PixelType::Float);
+  for (const auto& c : channels_.names) add("var." + c, PixelType::Float);
+  for (const auto& c : channels_.names) add("albedo." + c, PixelType::Half);
   add("Z", PixelType::Float);
   add("N.X", PixelType::Half);
   add("N.Y", PixelType::Half);

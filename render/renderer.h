@@ -11,6 +11,7 @@
 #include "core/band.h"
 #include "core/image.h"
 #include "core/progress.h"
+#include "render/band_channels.h"
 #include "render/embree_scene.h"
 #include "render/film.h"
 #include "render/integrator.h"
@@ -21,19 +22,6 @@
 #include <vector>
 
 namespace sylva {
-
-// What a band channel holds (docs/radiometry.md): the band-weighted spectral radiance
-// (W·m⁻²·sr⁻¹·nm⁻¹), or the reflectance factor π·L_c / E_c, where E_c is the band-weighted
-// irradiance on a horizontal plane from the same sun and sky (Environment::horizontal_irradiance).
-enum class Quantity { radiance, reflectance };
-
-// "radiance" / "reflectance"; parse_quantity throws sylva::Error for anything else.
-const char* quantity_name(Quantity q);
-Quantity parse_quantity(const std::string& name);
-
-// E_c = ∫ E(λ) w_c(λ) dλ for each channel of `bands`, band after band: the irradiance on a
-// horizontal plane from `environment`, weighted like the channel (W·m⁻²·nm⁻¹ for sensor bands).
-std::vector<float> channel_irradiance(const Environment& environment, const std::vector<Band>& bands);
 
 struct RenderSettings {
   int width = 640;
@@ -132,9 +120,9 @@ class Renderer {
   const RenderSettings& settings() const { return settings_; }
   const EmbreeScene& embree() const { return embree_; }
   const EmbreeStats& embree_stats() const { return embree_.stats(); }
-  const std::vector<std::string>& radiance_channels() const { return channels_; }
+  const std::vector<std::string>& radiance_channels() const { return channels_.names; }
   // Per radiance channel: the band-weighted horizontal irradiance E_c (channel_irradiance).
-  const std::vector<float>& irradiance() const { return irradiance_; }
+  const std::vector<float>& irradiance() const { return channels_.irradiance; }
 
  private:
   Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const EmbreeScene* shared, RenderSettings settings,
@@ -153,14 +141,13 @@ class Renderer {
   std::unique_ptr<Integrator> integrator_;
   Camera camera_;
   WavelengthSampler wavelengths_;
-  std::vector<std::string> channels_;  // radiance channel names, band after band
+  BandChannels channels_;  // the radiance channels, band after band
   // The radiance channels in blocks of four, the last padded with zeros: add_sample weighs a
   // sample into four channels per vector operation (bench/README.md, "Four at a time").
   size_t channel_blocks_ = 0;
   // w_c(λ) per radiance channel on the 1 nm grid, the channels interleaved ([grid index][block]):
   // a sample's weights for all channels at one wavelength are one or two cache lines, not one each.
   std::vector<Vec4> interleaved_weights_;
-  std::vector<float> irradiance_;  // E_c per radiance channel
   // Per block of channels: 1, or π / E_c for reflectance; kLambdaCount · ∫ w_c dλ (1 where the
   // integral is 0, which normalises the albedo AOV) and whether it is not 0.
   std::vector<Vec4> scale_blocks_, albedo_norm_blocks_;

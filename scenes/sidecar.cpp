@@ -3,6 +3,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "render/coverage.h"
+#include "render/primitives/primitive.h"
 
 #include <fmt/core.h>
 
@@ -42,19 +43,6 @@ std::string vec3(const Vec3& v) { return fmt::format("[{}, {}, {}]", number(v.x)
 std::string bounds(const Bounds3& b) {
   if (b.empty()) return "null";
   return fmt::format("{{\"min\": {}, \"max\": {}}}", vec3(b.lo), vec3(b.hi));
-}
-
-// Object-space bounds of everything a prototype draws (triangles, leaf quads, solids).
-Bounds3 prototype_bounds(const Prototype& p) {
-  Bounds3 b;
-  for (const Vec3& v : p.triangles.positions) b.extend(v);
-  for (const Vec3& v : p.leaves.corners) b.extend(v);
-  for (const HalfSpaceSolid& s : p.solids)
-    if (!s.bounds.empty()) {
-      b.extend(s.bounds.lo);
-      b.extend(s.bounds.hi);
-    }
-  return b;
 }
 
 // What the image shows of one object id: visible pixels and their box (inclusive pixel bounds).

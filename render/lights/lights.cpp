@@ -76,45 +76,7 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
     }
     sky_horizontal_ = horizontal;
     if (spectral_sky_) {
-      // E_model(λ) = ∫ max(0, Σ_i w_i(ω) S_i(λ)) cos θ dω on the table (the daylight formula dips
-      // below 0 in the UV for chromaticities off the daylight locus, and the radiance is clamped
-      // there); scaled to the stated horizontal irradiance per wavelength, or in total when the
-      // model keeps its own spectrum.
-      std::visit(
-          [&](const auto& m) {
-            if constexpr (SpectralSkyModel<std::decay_t<decltype(m)>>) {
-              sky_basis_ = m.basis();
-              // Beyond 780 nm the basis is one positive factor times its 780 nm values, where every
-              // daylight spectrum is positive: there the integral is linear in the weights.
-              constexpr int kLinearFrom = 780 - static_cast<int>(kLambdaMin);
-              std::array<double, 3> linear{};
-              for (const auto& [c, dw] : basis_cells)
-                for (int k = 0; k < 3; ++k) linear[k] += static_cast<double>(c[k]) * dw;
-              DenseSpectrum model;
-              for (int i = 0; i < kLambdaSamples; ++i) {
-                double e = 0;
-                if (i <= kLinearFrom) {
-                  for (const auto& [c, dw] : basis_cells)
-                    e += std::max(0.0f, c.x * sky_basis_[0][i] + c.y * sky_basis_[1][i] + c.z * sky_basis_[2][i]) * dw;
-                } else {
-                  for (int k = 0; k < 3; ++k) e += linear[k] * sky_basis_[k][i];
-                }
-                model[i] = static_cast<float>(e);
-              }
-              DenseSpectrum scale;
-              if (m.own_spectrum) {
-                const double total = model.integral();
-                scale = DenseSpectrum::constant(total > 0 ? static_cast<float>(sky.spectrum.integral() / total) : 0.0f);
-              } else {
-                for (int i = 0; i < kLambdaSamples; ++i) scale[i] = model[i] > 0 ? sky.spectrum[i] / model[i] : 0.0f;
-              }
-              for (DenseSpectrum& b : sky_basis_) b = b * scale;
-              sky_horizontal_spectrum_ = model * scale;
-            }
-          },
-          sky.model);
-    }
-    if (spectral_sky_) {
+      fit_spectral_sky(sky, basis_cells);
       // Radiance per unit relative luminance, for the mixture's sky probability and the ground.
       const DenseSpectrum e = horizontal_irradiance_of_sky();
       sky_radiance_ = e;
@@ -151,6 +113,45 @@ Environment::Environment(const SunDesc& sun, const SkyDesc& sky) : sun_(sun), sk
     p_sun_ = sun_power > 0 ? 1.0f : 0.0f;
     p_sky_ = sky_power > 0 ? 1.0f : 0.0f;
   }
+}
+
+// E_model(λ) = ∫ max(0, Σ_i w_i(ω) S_i(λ)) cos θ dω on the table (the daylight formula dips below 0
+// in the UV for chromaticities off the daylight locus, and the radiance is clamped there); scaled to
+// the stated horizontal irradiance per wavelength, or in total when the model keeps its own spectrum.
+void Environment::fit_spectral_sky(const SkyDesc& sky, const std::vector<std::pair<Vec3, float>>& basis_cells) {
+  std::visit(
+      [&](const auto& m) {
+        if constexpr (SpectralSkyModel<std::decay_t<decltype(m)>>) {
+          sky_basis_ = m.basis();
+          // Beyond 780 nm the basis is one positive factor times its 780 nm values, where every
+          // daylight spectrum is positive: there the integral is linear in the weights.
+          constexpr int kLinearFrom = 780 - static_cast<int>(kLambdaMin);
+          std::array<double, 3> linear{};
+          for (const auto& [c, dw] : basis_cells)
+            for (int k = 0; k < 3; ++k) linear[k] += static_cast<double>(c[k]) * dw;
+          DenseSpectrum model;
+          for (int i = 0; i < kLambdaSamples; ++i) {
+            double e = 0;
+            if (i <= kLinearFrom) {
+              for (const auto& [c, dw] : basis_cells)
+                e += std::max(0.0f, c.x * sky_basis_[0][i] + c.y * sky_basis_[1][i] + c.z * sky_basis_[2][i]) * dw;
+            } else {
+              for (int k = 0; k < 3; ++k) e += linear[k] * sky_basis_[k][i];
+            }
+            model[i] = static_cast<float>(e);
+          }
+          DenseSpectrum scale;
+          if (m.own_spectrum) {
+            const double total = model.integral();
+            scale = DenseSpectrum::constant(total > 0 ? static_cast<float>(sky.spectrum.integral() / total) : 0.0f);
+          } else {
+            for (int i = 0; i < kLambdaSamples; ++i) scale[i] = model[i] > 0 ? sky.spectrum[i] / model[i] : 0.0f;
+          }
+          for (DenseSpectrum& b : sky_basis_) b = b * scale;
+          sky_horizontal_spectrum_ = model * scale;
+        }
+      },
+      sky.model);
 }
 
 std::vector<float> Environment::sky_table(float ground_weight) const {

@@ -124,6 +124,9 @@ class Environment {
   float sky_pdf(const Vec3& dir) const;
   // The sky's sampling weights per cell (sky_distribution_), the ground's below the horizon.
   std::vector<float> sky_table(float ground_weight) const;
+  // A spectral sky's basis scaled to its stated spectrum, from the basis weights and cos θ dω of the
+  // normalisation grid's upper cells (sky_basis_, sky_horizontal_spectrum_).
+  void fit_spectral_sky(const SkyDesc& sky, const std::vector<std::pair<Vec3, float>>& basis_cells);
 
   SunDesc sun_;
   SkyDesc sky_;

@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 #include "core/hash.h"
+#include "render/band_channels.h"
+#include "render/primitives/media.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -16,34 +18,6 @@ namespace {
 
 // Samples per block: each block's sums are kept apart and added in block order (determinism).
 constexpr int kBlock = 256;
-
-// The band channels: names, SRF weights and, per channel, the factor applied to a radiance.
-struct Channels {
-  std::vector<std::string> names;
-  std::vector<const DenseSpectrum*> weights;
-  std::vector<float> scale;
-  size_t size() const { return names.size(); }
-
-  Channels(const std::vector<Band>& bands, const Environment& environment, Quantity quantity) {
-    for (const Band& b : bands)
-      for (size_t c = 0; c < b.channels.size(); ++c) {
-        names.push_back(b.channels[c]);
-        weights.push_back(&b.weights[c]);
-      }
-    const std::vector<float> e = channel_irradiance(environment, bands);
-    for (size_t c = 0; c < names.size(); ++c) {
-      if (quantity == Quantity::reflectance && !(e[c] > 0))
-        throw Error("reflectance: channel " + names[c] + " receives no irradiance from the sun and sky");
-      scale.push_back(quantity == Quantity::reflectance ? kPi / e[c] : 1.0f);
-    }
-  }
-  // Σ_i s_i w_c(λ_i) / p(λ_i) / n: the band-weighted estimate of spectrum `s` for channel c.
-  double weigh(size_t c, const SampledSpectrum& s, const SampledWavelengths& wl) const {
-    double v = 0;
-    for (int i = 0; i < kLambdaCount; ++i) v += s[i] * weights[c]->eval(wl.lambda_nm[i]) / wl.pdf[i];
-    return v / kLambdaCount;
-  }
-};
 
 // The plot's top plane: just above every piece of geometry.
 float plot_top(const EmbreeScene& embree) {
@@ -69,6 +43,40 @@ void run_blocks(int threads, size_t blocks, const Body& body) {
   arena.execute([&] { tbb::parallel_for(size_t{0}, blocks, [&](size_t b) { body(b); }); });
 }
 
+// Per block and channel of the flux walk: Σy, Σy², and per term Σx, Σx², Σxy.
+constexpr size_t kFluxStride = 2 + 3 * FluxTable::kTerms;
+
+// The flux table from the per-block sums: per block and channel kFluxStride values, Σy, Σy² and per
+// term Σx, Σx², Σxy (y = incident, x = the term's share), over n samples in `blocks` blocks.
+FluxTable summarise_flux(const std::vector<double>& sums, size_t blocks, const std::vector<std::string>& channels,
+                         int n) {
+  constexpr int kT = FluxTable::kTerms;
+  constexpr size_t kStride = kFluxStride;
+  const size_t nc = channels.size();
+  FluxTable table;
+  table.channels = channels;
+  table.samples = n;
+  for (size_t c = 0; c < nc; ++c) {
+    std::array<double, kStride> s{};
+    for (size_t b = 0; b < blocks; ++b)
+      for (size_t k = 0; k < kStride; ++k) s[k] += sums[(b * nc + c) * kStride + k];
+    std::array<double, kT> mean{}, se{};
+    if (s[0] > 0) {
+      // Ratio estimator R = Σx / Σy; its variance by the delta method, var(x − R y) / (n ȳ²).
+      const double ybar = s[0] / n;
+      for (int t = 0; t < kT; ++t) {
+        const double r = s[2 + 3 * t] / s[0];
+        const double var = std::max(0.0, (s[3 + 3 * t] - 2 * r * s[4 + 3 * t] + r * r * s[1]) / std::max(1.0, n - 1.0));
+        mean[t] = r;
+        se[t] = std::sqrt(var / n) / ybar;
+      }
+    }
+    table.mean.push_back(mean);
+    table.se.push_back(se);
+  }
+  return table;
+}
+
 }  // namespace
 
 std::vector<PlotView> principal_plane_views(float from_deg, float to_deg, float step_deg, float sun_azimuth_deg) {
@@ -87,7 +95,7 @@ std::vector<PlotView> principal_plane_views(float from_deg, float to_deg, float 
 BrfTable measure_brf(const Scene& scene, const EmbreeScene& embree, const MeasureSettings& settings) {
   check_plot(scene, settings);
   const Environment environment(scene.sun, scene.sky);
-  const Channels channels(settings.bands, environment, settings.quantity);
+  const BandChannels channels(settings.bands, environment, settings.quantity);
   const Integrator integrator(scene, embree, environment, settings.integrator);
   const WavelengthSampler wavelengths(settings.bands);
   const float top = plot_top(embree);
@@ -140,16 +148,14 @@ BrfTable measure_brf(const Scene& scene, const EmbreeScene& embree, const Measur
 
 FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const MeasureSettings& settings) {
   check_plot(scene, settings);
-  for (const Prototype& p : scene.prototypes)
-    for (const HalfSpaceSolid& solid : p.solids)
-      if (solid.leaf_area_density > 0)
-        throw Error("the flux budget follows surfaces only: the scene's turbid crowns are not supported");
+  if (has_turbid_crowns(scene))
+    throw Error("the flux budget follows surfaces only: the scene's turbid crowns are not supported");
   for (const Material& m : scene.materials)
     if (emits(m))
       throw Error("the flux budget follows the sun's and sky's light: emitting materials are not supported");
   const Environment environment(scene.sun, scene.sky);
   if (environment.empty()) throw Error("the flux budget needs a sun or a sky");
-  const Channels channels(settings.bands, environment, Quantity::radiance);
+  const BandChannels channels(settings.bands, environment, Quantity::radiance);
   const Integrator integrator(scene, embree, environment, settings.integrator);
   const WavelengthSampler wavelengths(settings.bands);
   const float top = plot_top(embree);
@@ -159,7 +165,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
   enum Term { kLeaves, kBark, kGround, kGroundDirect, kGroundTotal, kReflected, kClosure };
   constexpr int kT = FluxTable::kTerms;
   // Per block and channel: Σy, Σy², and per term Σx, Σx², Σxy (y = incident, x = the term's share).
-  constexpr size_t kStride = 2 + 3 * kT;
+  constexpr size_t kStride = kFluxStride;
   std::vector<double> sums(blocks * nc * kStride, 0.0);
   const auto category = [&](uint32_t material) {
     if (is_foliage(scene.materials[material])) return kLeaves;
@@ -224,28 +230,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
       }
     }
   });
-  FluxTable table;
-  table.channels = channels.names;
-  table.samples = n;
-  for (size_t c = 0; c < nc; ++c) {
-    std::array<double, kStride> s{};
-    for (size_t b = 0; b < blocks; ++b)
-      for (size_t k = 0; k < kStride; ++k) s[k] += sums[(b * nc + c) * kStride + k];
-    std::array<double, kT> mean{}, se{};
-    if (s[0] > 0) {
-      // Ratio estimator R = Σx / Σy; its variance by the delta method, var(x − R y) / (n ȳ²).
-      const double ybar = s[0] / n;
-      for (int t = 0; t < kT; ++t) {
-        const double r = s[2 + 3 * t] / s[0];
-        const double var = std::max(0.0, (s[3 + 3 * t] - 2 * r * s[4 + 3 * t] + r * r * s[1]) / std::max(1.0, n - 1.0));
-        mean[t] = r;
-        se[t] = std::sqrt(var / n) / ybar;
-      }
-    }
-    table.mean.push_back(mean);
-    table.se.push_back(se);
-  }
-  return table;
+  return summarise_flux(sums, blocks, channels.names, n);
 }
 
 }  // namespace sylva

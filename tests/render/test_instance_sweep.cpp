@@ -253,7 +253,7 @@ void expect_hints_change_nothing(const Scene& scene, const char* what) {
         EXPECT_EQ(std::bit_cast<uint32_t>(h->t), std::bit_cast<uint32_t>(plain.t)) << what << " ray " << r;
         EXPECT_EQ(h->instance, plain.instance) << what << " ray " << r;
         EXPECT_EQ(h->primitive, plain.primitive) << what << " ray " << r;
-        EXPECT_EQ(h->leaf, plain.leaf) << what << " ray " << r;
+        EXPECT_EQ(h->kind, plain.kind) << what << " ray " << r;
         EXPECT_EQ(std::bit_cast<uint32_t>(h->u), std::bit_cast<uint32_t>(plain.u)) << what << " ray " << r;
       }
       const bool blocked = embree.occluded(next.origin, d, kInf);

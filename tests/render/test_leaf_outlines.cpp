@@ -44,7 +44,7 @@ bool blocked(const EmbreeScene& embree, int leaf, float u, float v) {
   const bool occluded = embree.occluded(origin, down, std::numeric_limits<float>::infinity());
   EXPECT_EQ(found, occluded) << "leaf " << leaf << " at (" << u << ", " << v << ")";
   if (found) {
-    EXPECT_TRUE(hit.leaf);
+    EXPECT_EQ(hit.kind, PrimitiveKind::kLeafQuads);
     EXPECT_EQ(hit.primitive, static_cast<uint32_t>(leaf));
     EXPECT_NEAR(hit.t, 2.0f, 1e-5f);
     EXPECT_NEAR(hit.u, u, 1e-5f);

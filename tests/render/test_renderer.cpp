@@ -378,7 +378,7 @@ TEST(MeshHits, PairedAndLoneTrianglesKeepTheirIndexAndBarycentrics) {
         continue;
       }
       ASSERT_GE(expected, 0) << x << ", " << y;
-      EXPECT_FALSE(hit.leaf);
+      EXPECT_NE(hit.kind, PrimitiveKind::kLeafQuads);
       ASSERT_EQ(hit.primitive, static_cast<uint32_t>(expected)) << x << ", " << y;
       ++hits_per_triangle[expected];
       const glm::uvec3 t = mesh.triangles[hit.primitive];

@@ -86,8 +86,8 @@ TEST(SharedVertices, SharedBuffersTraceTheSameBitsAsCopies) {
     EXPECT_EQ(hs.v, hc.v) << "ray " << i;
     EXPECT_EQ(hs.primitive, hc.primitive) << "ray " << i;
     EXPECT_EQ(hs.instance, hc.instance) << "ray " << i;
-    EXPECT_EQ(hs.leaf, hc.leaf) << "ray " << i;
-    (hs.leaf ? leaf_hits : ground_hits) += 1;
+    EXPECT_EQ(hs.kind, hc.kind) << "ray " << i;
+    (hs.kind == PrimitiveKind::kLeafQuads ? leaf_hits : ground_hits) += 1;
   }
   EXPECT_GT(leaf_hits, 20);
   EXPECT_GT(ground_hits, 20);

@@ -62,8 +62,7 @@ TEST(EmbreeSolids, InstancedHitsMatchDirectIntersection) {
       EXPECT_EQ(embree.occluded(o, d, std::numeric_limits<float>::infinity()), found);
       if (!found) continue;
       ++hits;
-      EXPECT_TRUE(hit.solid);
-      EXPECT_FALSE(hit.leaf);
+      EXPECT_EQ(hit.kind, PrimitiveKind::kSolids);
       EXPECT_EQ(hit.instance, 0u);
       EXPECT_EQ(hit.primitive, best_prim);
       EXPECT_NEAR(hit.t, best, 1e-3f * best);

@@ -88,9 +88,7 @@ TEST_P(GrassTrace, GrassBladesAreTwoSidedAndNeverReHitWhenLeaving) {
     RayHit hit;
     if (!embree.intersect(Ray{o, d}, &hit)) continue;
     ++hits;
-    ASSERT_TRUE(hit.curve);
-    EXPECT_FALSE(hit.leaf);
-    EXPECT_FALSE(hit.solid);
+    ASSERT_EQ(hit.kind, PrimitiveKind::kCurves);
     ASSERT_LT(hit.primitive, 3000u);
     const Vec3 ng = glm::normalize(hit.normal);
     ASSERT_TRUE(is_finite(ng));
