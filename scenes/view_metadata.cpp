@@ -15,8 +15,8 @@ CameraMetadata camera_metadata(const CameraDesc& desc, int width, int height) {
   const glm::dvec3 position(desc.position), forward = glm::normalize(glm::dvec3(desc.target) - position);
   const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(desc.up)));
   const glm::dvec3 down = -glm::cross(right, forward);
-  m.world_from_camera = glm::dmat4(glm::dvec4(right, 0), glm::dvec4(down, 0), glm::dvec4(forward, 0),
-                                   glm::dvec4(position, 1));
+  m.world_from_camera =
+      glm::dmat4(glm::dvec4(right, 0), glm::dvec4(down, 0), glm::dvec4(forward, 0), glm::dvec4(position, 1));
   m.cx = 0.5 * width;
   m.cy = 0.5 * height;
   std::visit(

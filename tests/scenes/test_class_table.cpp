@@ -36,8 +36,8 @@ class = "concrete pad"
 )";
 
 std::string target(const std::string& label, float x) {
-  return "[[targets]]\nfile = \"targets/vehicle.obj\"\nmaterial = \"grey\"\nlabel = \"" + label +
-         "\"\nposition = [" + std::to_string(x) + ", 0, 0]\n";
+  return "[[targets]]\nfile = \"targets/vehicle.obj\"\nmaterial = \"grey\"\nlabel = \"" + label + "\"\nposition = [" +
+         std::to_string(x) + ", 0, 0]\n";
 }
 
 SceneFile parse(const std::string& text) {
@@ -77,7 +77,8 @@ TEST(ClassTable, MeshesNameTheirClassAndTargetsStandOnThem) {
   EXPECT_NEAR(f.targets[0].position.z, 0.4f, 1e-5f);
   EXPECT_NEAR(f.targets[1].position.z, 0.0f, 1e-5f);
   // A mesh without a class is of class "mesh", as before.
-  const SceneFile plain = parse("[materials.grey]\nreflectance = 0.3\n[[meshes]]\nshape = \"box\"\nmaterial = \"grey\"\n");
+  const SceneFile plain =
+      parse("[materials.grey]\nreflectance = 0.3\n[[meshes]]\nshape = \"box\"\nmaterial = \"grey\"\n");
   EXPECT_EQ(plain.scene.instances[0].class_id, kClassMesh);
 }
 
@@ -98,14 +99,15 @@ TEST_F(CopiedExample, FindsItsSpeciesTablesAndMeshesInTheDataFolder) {
 }
 
 TEST_F(CopiedExample, AMissingFileNamesWhereItLooked) {
-  std::ofstream(dir_ / "lost.toml") << "[[trees]]\nspecies = \"../species/no_such_tree.toml\"\nbark = \"a\"\nleaf = \"b\"\n";
+  std::ofstream(dir_ / "lost.toml")
+      << "[[trees]]\nspecies = \"../species/no_such_tree.toml\"\nbark = \"a\"\nleaf = \"b\"\n";
   try {
     load_scene_file(dir_ / "lost.toml");
     ADD_FAILURE() << "no error";
   } catch (const ParseError& e) {
     const std::string m = e.what();
-    EXPECT_EQ(m.rfind((dir_ / "lost.toml").string() + ":2: file not found: ../species/no_such_tree.toml (looked for ", 0),
-              0u)
+    EXPECT_EQ(
+        m.rfind((dir_ / "lost.toml").string() + ":2: file not found: ../species/no_such_tree.toml (looked for ", 0), 0u)
         << m;
     EXPECT_NE(m.find((dir_ / "../species/no_such_tree.toml").string()), std::string::npos) << m;
     EXPECT_NE(m.find((data_dir() / "species/no_such_tree.toml").string()), std::string::npos) << m;

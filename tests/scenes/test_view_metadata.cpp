@@ -33,7 +33,8 @@ spp = 1
 bands = ["rgb"]
 max_depth = 1
 [camera]
-)" + camera + R"(
+)" + camera +
+         R"(
 [sun]
 azimuth = 120
 elevation = 30
@@ -111,8 +112,8 @@ class ViewMetadata : public test::TempDirTest {};
 
 void expect_spheres_where_projected(const SceneFile& f) {
   const Image rendered = render_labels(f);
-  const std::filesystem::path exr = std::filesystem::temp_directory_path() /
-                                    ("sylva_view_metadata_" + std::to_string(::getpid()) + ".exr");
+  const std::filesystem::path exr =
+      std::filesystem::temp_directory_path() / ("sylva_view_metadata_" + std::to_string(::getpid()) + ".exr");
   write_exr(exr, rendered);
   const Image image = read_exr(exr);
   std::filesystem::remove(exr);
@@ -175,7 +176,8 @@ TEST_F(ViewMetadata, SunAndBandsInHeaderAndSidecar) {
   EXPECT_EQ(j["camera"]["intrinsics"][2].number, header.cx);
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c)
-      EXPECT_EQ(j["camera"]["world_from_camera"][static_cast<size_t>(r * 4 + c)].number, header.world_from_camera[c][r]);
+      EXPECT_EQ(j["camera"]["world_from_camera"][static_cast<size_t>(r * 4 + c)].number,
+                header.world_from_camera[c][r]);
   EXPECT_NEAR(j["sun"]["direction"][2].number, 0.5, 1e-12);
   EXPECT_EQ(j["sun"]["azimuth_deg"].number, 120.0);
   ASSERT_EQ(j["bands"].array.size(), 1u);
