@@ -1,7 +1,7 @@
 // sylva_crop_strip OUT.png X Y W H EXPOSURE VIEW IN.exr ...: the same W×H window of each image, at
 // 1:1, side by side (left to right in argument order, 2 white pixels apart), through one preview
 // transform (core/image.h: the same exposure in stops and OCIO view for all), as one PNG. EXPOSURE
-// "auto": the previews' auto exposure (pipeline/outputs.h) of the last image's whole frame. For the
+// "auto": the previews' auto exposure (pipeline/outputs.h) of the first image's whole frame. For the
 // before/after crops of docs/denoise.md (bench/denoise_bench.sh --crops).
 
 #include "core/error.h"
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
     const int x0 = std::stoi(argv[2]), y0 = std::stoi(argv[3]), w = std::stoi(argv[4]), h = std::stoi(argv[5]);
     sylva::PreviewOptions options;
     options.exposure_ev = std::string(argv[6]) == "auto"
-                              ? sylva::auto_exposure_ev(sylva::read_exr(argv[argc - 1]), options.channels)
+                              ? sylva::auto_exposure_ev(sylva::read_exr(argv[8]), options.channels)
                               : std::stof(argv[6]);
     options.view = argv[7];
     const int n = argc - 8;
@@ -38,8 +38,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < n; ++i) {
       const sylva::Image image = sylva::read_exr(argv[8 + i]);
       if (x0 < 0 || y0 < 0 || w <= 0 || h <= 0 || x0 + w > image.width || y0 + h > image.height)
-        throw sylva::Error(fmt::format("{}: the window {}x{} at ({}, {}) is not inside the {}x{} image", argv[8 + i],
-                                       w, h, x0, y0, image.width, image.height));
+        throw sylva::Error(fmt::format("{}: the window {}x{} at ({}, {}) is not inside the {}x{} image", argv[8 + i], w,
+                                       h, x0, y0, image.width, image.height));
       const std::vector<uint8_t> rgb = sylva::make_preview_rgb8(image, options);
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)

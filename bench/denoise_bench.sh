@@ -7,7 +7,7 @@
 # SYLVA: the sylva binary; METRICS: build/bench/sylva_denoise_metrics. Existing renders in OUTDIR are
 # reused (delete them to render again). The reference uses seed 1000, the noisy renders seed 1.
 # --crops: for each window, OUTDIR/crop_X_Y.png shows noisy 16 spp | denoised 16 spp | reference at
-# 1:1 through one preview transform (the reference's auto exposure, VIEW, default ACES;
+# 1:1 through one preview transform (the noisy image's auto exposure, VIEW, default ACES;
 # sylva_crop_strip, built beside METRICS).
 set -euo pipefail
 sylva=$1 metrics=$2 out=$3
