@@ -106,14 +106,14 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
 
 Film Renderer::make_film() const { return make_film(image_region(), 0); }
 
+int Renderer::film_channels() const { return sylva::film_channels(channels_.size(), settings_.features); }
+
 Film Renderer::make_film(const PixelRegion& window, uint32_t first_sample) const {
-  return Film(settings_.width, settings_.height, film_channels(channels_.size(), settings_.features), window,
-              first_sample);
+  return Film(settings_.width, settings_.height, film_channels(), window, first_sample);
 }
 
 void Renderer::check_film(const Film& film) const {
-  if (film.width() != settings_.width || film.height() != settings_.height ||
-      film.channels() != film_channels(channels_.size(), settings_.features))
+  if (film.width() != settings_.width || film.height() != settings_.height || film.channels() != film_channels())
     throw Error("film does not match the render settings");
 }
 

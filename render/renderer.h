@@ -99,6 +99,9 @@ class Renderer {
   // A film for `window` (inside the image) holding samples from `first_sample` on: a tile or a
   // sample chunk of a split render, merged later with Film::merge.
   Film make_film(const PixelRegion& window, uint32_t first_sample) const;
+  // The channels of this renderer's films: each band channel's Σ and Σ², plus the denoiser's
+  // features and half-buffers when settings.features.
+  int film_channels() const;
 
   // Adds samples to every pixel of the film's window until it has settings.spp (or cancel is set).
   // Equivalent to render(film, film.window(), {film.first_sample(), settings.spp}).

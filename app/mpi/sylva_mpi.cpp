@@ -46,6 +46,7 @@ struct MpiOptions {
   std::string exr, png;
   std::string split = "tiles";
   int chunks = 0;
+  bool denoise = false;
   bool quiet = false;
 };
 
@@ -61,6 +62,10 @@ class ChunkQueue {
     const int i = queue_.front();
     queue_.pop_front();
     return i;
+  }
+  void clear() {
+    std::lock_guard lock(mutex_);
+    queue_.clear();
   }
 
  private:
@@ -105,11 +110,43 @@ void worker(Renderer& renderer, const Context& ctx) {
   }
 }
 
+// Rank 0's side of the other ranks' work loop: takes each finished chunk (keep(index, film, rank))
+// and hands out the next, until every other rank has been told there is none left.
+template <typename Keep>
+void serve_ranks(ChunkQueue& queue, int ranks, const std::string& key, const Keep& keep) {
+  int active = ranks - 1;
+  std::vector<char> buffer;
+  while (active > 0) {
+    int ready = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kTagWork, MPI_COMM_WORLD, &ready, &status);
+    if (!ready) {
+      // Polling with a sleep: a blocking receive would spin a core that rank 0's renderer needs.
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      continue;
+    }
+    int bytes = 0;
+    MPI_Get_count(&status, MPI_BYTE, &bytes);
+    buffer.resize(static_cast<size_t>(bytes));
+    MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagWork, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    int32_t finished = -1;
+    std::memcpy(&finished, buffer.data(), sizeof(finished));
+    if (finished >= 0) {
+      std::istringstream in(std::string(buffer.begin() + sizeof(int32_t), buffer.end()));
+      keep(finished, Film::read(in, key, fmt::format("chunk {} from rank {}", finished, status.MPI_SOURCE)),
+           status.MPI_SOURCE);
+    }
+    const int32_t next = queue.take();
+    MPI_Send(&next, 1, MPI_INT32_T, status.MPI_SOURCE, kTagAssign, MPI_COMM_WORLD);
+    if (next < 0) --active;
+  }
+}
+
 // Rank 0: hands out the chunks, renders some itself, and assembles the film in chunk order.
 Film coordinator(Renderer& renderer, Context& ctx, const MpiOptions& opt, int ranks) {
   ChunkQueue queue(ctx.chunks);
   const RenderSettings& s = ctx.settings;
-  ChunkAssembler assembler(s.width, s.height, static_cast<int>(2 * renderer.radiance_channels().size()), ctx.chunks);
+  ChunkAssembler assembler(s.width, s.height, renderer.film_channels(), ctx.chunks);
   const std::filesystem::path spool = opt.exr + ".parts";
   std::filesystem::create_directories(spool);
   std::mutex assembler_mutex;
@@ -130,31 +167,14 @@ Film coordinator(Renderer& renderer, Context& ctx, const MpiOptions& opt, int ra
       local_error = std::current_exception();
     }
   });
-  int active = ranks - 1;
-  std::vector<char> buffer;
-  while (active > 0) {
-    int ready = 0;
-    MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kTagWork, MPI_COMM_WORLD, &ready, &status);
-    if (!ready) {
-      // Polling with a sleep: a blocking receive would spin a core that rank 0's renderer needs.
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-      continue;
-    }
-    int bytes = 0;
-    MPI_Get_count(&status, MPI_BYTE, &bytes);
-    buffer.resize(static_cast<size_t>(bytes));
-    MPI_Recv(buffer.data(), bytes, MPI_BYTE, status.MPI_SOURCE, kTagWork, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    int32_t finished = -1;
-    std::memcpy(&finished, buffer.data(), sizeof(finished));
-    if (finished >= 0) {
-      std::istringstream in(std::string(buffer.begin() + sizeof(int32_t), buffer.end()));
-      keep(finished, Film::read(in, ctx.key, fmt::format("chunk {} from rank {}", finished, status.MPI_SOURCE)),
-           status.MPI_SOURCE);
-    }
-    const int32_t next = queue.take();
-    MPI_Send(&next, 1, MPI_INT32_T, status.MPI_SOURCE, kTagAssign, MPI_COMM_WORLD);
-    if (next < 0) --active;
+  // An error here (a foreign film, a failed spool write) must not leave the local thread running:
+  // stop handing out chunks, let it finish the one it has, then report.
+  try {
+    serve_ranks(queue, ranks, ctx.key, keep);
+  } catch (...) {
+    queue.clear();
+    local.join();
+    throw;
   }
   local.join();
   if (local_error) std::rethrow_exception(local_error);
@@ -169,6 +189,7 @@ int run(const MpiOptions& opt, int rank, int ranks) {
   call.exr = opt.exr;
   call.png = opt.png;
   call.memory_check = false;
+  call.denoise = opt.denoise;  // after the merge, on rank 0, as sylva render --denoise does
   // The film is made over the ranks (in place of a session: no checkpoint); rank 0 writes it.
   Context ctx{{}, opt.split == "samples" ? ChunkSplit::samples : ChunkSplit::tiles, 0, {}, {}, {}};
   call.seams.film_source = [&](Renderer& renderer, RenderObserver&) { return coordinator(renderer, ctx, opt, ranks); };
@@ -233,6 +254,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 1 << 20));
   app.add_option("--set", req.overrides, "Override a key of the scene file: SECTION.KEY=VALUE (repeatable)")
       ->allow_extra_args(false);
+  app.add_flag("--features", req.features,
+               "Also write the denoiser's features and half-buffers (feature.*, even.*, odd.*; docs/denoise.md)");
+  app.add_flag("--denoise", opt.denoise,
+               "Denoise the merged image (implies --features): the beauty denoised, the noisy one kept as noisy.*");
   app.add_flag("-q,--quiet", opt.quiet, "No summary");
   try {
     app.parse(argc, argv);

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # sylva-mpi renders equal the single-process render byte for byte: mpirun -n 2 and -n 4, chunks by
-# tiles and by samples; a rank that fails makes the run fail with a message naming it; a rank that
-# is killed ends the job, and the chunks finished before are kept: rendering the missing ones with
-# `sylva render --chunk` and merging gives the single render's bytes.
+# tiles and by samples, and with --denoise (denoised after the merge); a rank that fails makes the
+# run fail with a message naming it; a rank that is killed ends the job, and the chunks finished
+# before are kept: rendering the missing ones with `sylva render --chunk` and merging gives the
+# single render's bytes.
 # Usage: mpi_bit_identical.sh SYLVA SYLVA_MPI MPIEXEC
 set -euo pipefail
 sylva=$1 sylva_mpi=$2 mpiexec=$3
@@ -25,6 +26,18 @@ for n in 2 4; do
     fi
     [[ ! -e "$out.parts" ]] || { echo "FAIL: $out.parts left behind"; fail=1; }
   done
+done
+# Denoising after the merge: sylva-mpi --denoise equals sylva render --denoise byte for byte.
+"$sylva" render -o "$dir/single_dn.exr" --png "$dir/single_dn.png" --denoise "${common[@]}"
+for split in tiles samples; do
+  "$mpiexec" --allow-run-as-root --oversubscribe -n 2 "$sylva_mpi" -o "$dir/mpi_dn.exr" --png "$dir/mpi_dn.png" \
+    --split "$split" --denoise "${common[@]}"
+  if cmp -s "$dir/single_dn.exr" "$dir/mpi_dn.exr" && cmp -s "$dir/single_dn.png" "$dir/mpi_dn.png"; then
+    echo "ok: --denoise over -n 2 by $split is byte-identical"
+  else
+    echo "FAIL: --denoise over -n 2 by $split differs from sylva render --denoise"
+    fail=1
+  fi
 done
 # A failing rank: an impossible split (more sample chunks than samples) fails on every rank, with a
 # message and a non-zero exit, and writes no output.

@@ -63,6 +63,35 @@ TEST(CliChunks, MergeEqualsSingleRenderByteForByte) {
   EXPECT_NE(read_text(dir / "seed2.exr"), single);
 }
 
+// Denoising runs after the merge (docs/denoise.md): parts rendered with --features and merged with
+// --denoise give the bytes of one `render --denoise`, by samples and by tiles; parts without the
+// features are refused.
+TEST(CliChunks, MergeDenoiseEqualsRenderDenoiseByteForByte) {
+  const fs::path dir = fresh_dir("cli_chunks_denoise");
+  ASSERT_EQ(run_sylva("render '" SYLVA_SOURCE_DIR "/data/examples/objects.toml' -o " + q(dir / "single.exr") +
+                          " --png " + q(dir / "single.png") + " --denoise" + kCommon,
+                      dir)
+                .exit_code,
+            0);
+  const std::string single = read_text(dir / "single.exr"), single_png = read_text(dir / "single.png");
+  ASSERT_FALSE(single.empty());
+  ASSERT_GE(read_exr(dir / "single.exr").find_channel("noisy.R"), 0);
+  for (const auto& [split, n] : {std::pair<std::string, int>{"samples", 3}, {"tiles", 2}}) {
+    const std::string tag = split + std::to_string(n);
+    const std::string parts = render_chunks(dir, tag, n, split, " --features");
+    const fs::path out = dir / (tag + ".exr"), png = dir / (tag + ".png");
+    const auto r = run_sylva("merge" + parts + " -o " + q(out) + " --png " + q(png) + " --denoise --quiet", dir);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(read_text(out) == single) << n << " chunks by " << split << ": denoised EXR differs";
+    EXPECT_TRUE(read_text(png) == single_png) << n << " chunks by " << split << ": denoised PNG differs";
+  }
+  const std::string plain = render_chunks(dir, "plain", 2, "samples");
+  const auto r = run_sylva("merge" + plain + " -o " + q(dir / "plain.exr") + " --denoise --quiet", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("rendered without --features"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "plain.exr"));
+}
+
 TEST(CliChunks, ForeignMissingAndDuplicatedPartsAreNamed) {
   const fs::path dir = fresh_dir("cli_chunks_refuse");
   render_chunks(dir, "a", 3, "samples");
