@@ -40,8 +40,8 @@ Scene lamp_scene() {
   s.sun.enabled = false;
   s.sky.enabled = false;
   const uint32_t floor = s.add_material("floor", make_diffuse("floor", DenseSpectrum::constant(kFloorAlbedo)));
-  const uint32_t lamp = s.add_material(
-      "lamp", make_emissive("lamp", DenseSpectrum::constant(kLe), DenseSpectrum::constant(0.0f), false));
+  const uint32_t lamp =
+      s.add_material("lamp", make_emissive("lamp", DenseSpectrum::constant(kLe), DenseSpectrum::constant(0.0f), false));
   s.instances.push_back(
       {s.add_prototype(Prototype{"floor", make_plane(40, 40), floor, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
   const Mat4 turned = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, kHeight)), kPi, Vec3(1, 0, 0));
