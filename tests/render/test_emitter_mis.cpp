@@ -19,10 +19,10 @@
 namespace sylva {
 namespace {
 
-using Strategy = IntegratorSettings::EmitterSampling;
+using EmitterStrategy = IntegratorSettings::EmitterSampling;
 
-constexpr float kHeight = 1.0f, kLampX = 0.3f, kLampY = 0.2f;  // the lamp, m
-constexpr float kLe = 2.0f, kFloorAlbedo = 0.5f;
+constexpr float kLampHeight = 1.0f, kLampX = 0.3f, kLampY = 0.2f;  // the lamp, m
+constexpr float kLampLe = 2.0f, kLampFloorAlbedo = 0.5f;
 
 // Point-to-parallel-rectangle form factor: a point under the corner of an a × b rectangle at
 // height h (Howell's catalogue, C-11), summed over the four quarters of a centred one.
@@ -35,16 +35,16 @@ double centred_rectangle_form_factor(double a, double b, double h) {
 // A large diffuse floor (ρ 0.5) at z = 0 and, above its centre at height 1 m, a 0.3 × 0.2 m black
 // one-sided emitter facing down (an instance of an upward plane turned over); no sun, no sky. The
 // camera looks straight down at the floor's centre from below the lamp with a 1° field.
-Scene lamp_scene() {
+Scene lamp_test_scene() {
   Scene s;
   s.sun.enabled = false;
   s.sky.enabled = false;
-  const uint32_t floor = s.add_material("floor", make_diffuse("floor", DenseSpectrum::constant(kFloorAlbedo)));
-  const uint32_t lamp =
-      s.add_material("lamp", make_emissive("lamp", DenseSpectrum::constant(kLe), DenseSpectrum::constant(0.0f), false));
+  const uint32_t floor = s.add_material("floor", make_diffuse("floor", DenseSpectrum::constant(kLampFloorAlbedo)));
+  const uint32_t lamp = s.add_material(
+      "lamp", make_emissive("lamp", DenseSpectrum::constant(kLampLe), DenseSpectrum::constant(0.0f), false));
   s.instances.push_back(
       {s.add_prototype(Prototype{"floor", make_plane(40, 40), floor, {}, 0, {}, {}, {}, 0, {}, 0}), Mat4(1.0f), 0});
-  const Mat4 turned = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, kHeight)), kPi, Vec3(1, 0, 0));
+  const Mat4 turned = glm::rotate(glm::translate(Mat4(1.0f), Vec3(0, 0, kLampHeight)), kPi, Vec3(1, 0, 0));
   s.instances.push_back(
       {s.add_prototype(Prototype{"lamp", make_plane(kLampX, kLampY), lamp, {}, 0, {}, {}, {}, 0, {}, 0}), turned, 0});
   s.camera.position = {0, 0, 0.5f};
@@ -54,19 +54,19 @@ Scene lamp_scene() {
   return s;
 }
 
-struct ChannelEstimate {
+struct LampEstimate {
   double mean = 0, standard_error = 0, mean_variance = 0;  // mean_variance: a pixel's, per sample
 };
 
 // Every channel's mean over the image, its standard error, and the mean per-sample variance.
-std::vector<ChannelEstimate> render_estimates(const Scene& scene, Strategy strategy, int spp) {
+std::vector<LampEstimate> render_lamp_estimates(const Scene& scene, EmitterStrategy strategy, int spp) {
   RenderSettings settings = test::test_settings(32, 32, spp);
   settings.integrator.emitter_sampling = strategy;
   Renderer r(scene, settings);
   Film film = r.make_film();
   r.render(film);
   const Image img = r.make_image(film);
-  std::vector<ChannelEstimate> out;
+  std::vector<LampEstimate> out;
   for (const Band& b : test::test_bands())
     for (const std::string& channel : b.channels) {
       const int c = img.find_channel(channel), v = img.find_channel("var." + channel);
@@ -82,7 +82,7 @@ std::vector<ChannelEstimate> render_estimates(const Scene& scene, Strategy strat
   return out;
 }
 
-std::vector<double> channel_integrals() {
+std::vector<double> lamp_channel_integrals() {
   std::vector<double> out;
   for (const Band& b : test::test_bands())
     for (const DenseSpectrum& w : b.weights) out.push_back(w.integral());
@@ -91,14 +91,14 @@ std::vector<double> channel_integrals() {
 
 TEST(EmitterMis, FloorUnderASmallLampMatchesTheFormFactor) {
   // L = ρ · L_e · F: the floor's only light is the lamp's (black, so nothing comes back).
-  const double f = centred_rectangle_form_factor(kLampX, kLampY, kHeight);
-  const std::vector<double> w = channel_integrals();
-  const Scene s = lamp_scene();
-  const std::vector<ChannelEstimate> mis = render_estimates(s, Strategy::kMis, 16);
-  const std::vector<ChannelEstimate> light = render_estimates(s, Strategy::kLight, 16);
-  const std::vector<ChannelEstimate> bsdf = render_estimates(s, Strategy::kBsdf, 256);
+  const double f = centred_rectangle_form_factor(kLampX, kLampY, kLampHeight);
+  const std::vector<double> w = lamp_channel_integrals();
+  const Scene s = lamp_test_scene();
+  const std::vector<LampEstimate> mis = render_lamp_estimates(s, EmitterStrategy::kMis, 16);
+  const std::vector<LampEstimate> light = render_lamp_estimates(s, EmitterStrategy::kLight, 16);
+  const std::vector<LampEstimate> bsdf = render_lamp_estimates(s, EmitterStrategy::kBsdf, 256);
   for (size_t c = 0; c < w.size(); ++c) {
-    const double expected = kFloorAlbedo * kLe * f * w[c];
+    const double expected = kLampFloorAlbedo * kLampLe * f * w[c];
     for (const auto& [name, e] : {std::pair{"mis", mis[c]}, {"light", light[c]}, {"bsdf", bsdf[c]}}) {
       const double z = (e.mean - expected) / e.standard_error;
       std::printf("[emitter mis] channel %zu %-5s mean %.6g expected %.6g (%.2f s.e., s.e. %.2g%%)\n", c, name, e.mean,
@@ -106,7 +106,7 @@ TEST(EmitterMis, FloorUnderASmallLampMatchesTheFormFactor) {
       EXPECT_LT(std::abs(z), 4.0) << name << " channel " << c;
     }
     // The estimators against each other, each pair's difference within its combined error.
-    const auto agree = [&](const ChannelEstimate& a, const ChannelEstimate& b, const char* what) {
+    const auto agree = [&](const LampEstimate& a, const LampEstimate& b, const char* what) {
       const double se = std::hypot(a.standard_error, b.standard_error);
       EXPECT_LT(std::abs(a.mean - b.mean), 4.0 * se) << what << " channel " << c;
     };
@@ -125,8 +125,8 @@ TEST(EmitterMis, EstimatorsAgreeThroughHazeAndATurbidSlab) {
   // homogeneous haze, above a slab of grey turbid leaves the floor's light crosses: no closed form,
   // but the three estimators must agree (the light samples' shadow rays are finite segments that
   // start and end in the media).
-  Scene s = lamp_scene();
-  s.materials[1] = make_emissive("lamp", DenseSpectrum::constant(kLe), DenseSpectrum::constant(0.3f), true);
+  Scene s = lamp_test_scene();
+  s.materials[1] = make_emissive("lamp", DenseSpectrum::constant(kLampLe), DenseSpectrum::constant(0.3f), true);
   s.haze.enabled = true;
   s.haze.extinction_550 = 0.3f;
   s.haze.top = 3.0f;
@@ -150,9 +150,9 @@ TEST(EmitterMis, EstimatorsAgreeThroughHazeAndATurbidSlab) {
   s.camera.position = {0, -1.2f, 0.8f};
   s.camera.target = {0, 0, 0.2f};
   std::get<PerspectiveProjection>(s.camera.projection).vfov_deg = 40;
-  const std::vector<ChannelEstimate> mis = render_estimates(s, Strategy::kMis, 32);
-  const std::vector<ChannelEstimate> light = render_estimates(s, Strategy::kLight, 32);
-  const std::vector<ChannelEstimate> bsdf = render_estimates(s, Strategy::kBsdf, 512);
+  const std::vector<LampEstimate> mis = render_lamp_estimates(s, EmitterStrategy::kMis, 32);
+  const std::vector<LampEstimate> light = render_lamp_estimates(s, EmitterStrategy::kLight, 32);
+  const std::vector<LampEstimate> bsdf = render_lamp_estimates(s, EmitterStrategy::kBsdf, 512);
   for (size_t c = 0; c < mis.size(); ++c) {
     std::printf("[emitter mis] media channel %zu: mis %.5g ± %.2g, light %.5g ± %.2g, bsdf %.5g ± %.2g\n", c,
                 mis[c].mean, mis[c].standard_error, light[c].mean, light[c].standard_error, bsdf[c].mean,

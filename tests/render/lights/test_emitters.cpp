@@ -15,11 +15,11 @@
 namespace sylva {
 namespace {
 
-const double kAlpha = sidak_alpha(0.01, 2);  // two χ² tests in this file
+const double kEmittersAlpha = sidak_alpha(0.01, 2);  // two χ² tests in this file
 
 // Two copies of an emissive quad (one scaled 2 × 1 and mirrored, det < 0), a brighter two-sided
 // emissive box, and a diffuse plane that does not emit.
-Scene emitter_scene() {
+Scene emitters_test_scene() {
   Scene s;
   const uint32_t lamp = s.add_material(
       "lamp", make_emissive("lamp", DenseSpectrum::constant(1.0f), DenseSpectrum::constant(0.0f), false));
@@ -36,7 +36,7 @@ Scene emitter_scene() {
   return s;
 }
 
-RayHit triangle_hit(uint32_t instance, uint32_t primitive) {
+RayHit emitter_triangle_hit(uint32_t instance, uint32_t primitive) {
   RayHit hit;
   hit.instance = instance;
   hit.kind = PrimitiveKind::kTriangles;
@@ -45,7 +45,7 @@ RayHit triangle_hit(uint32_t instance, uint32_t primitive) {
 }
 
 TEST(Emitters, TrianglesChosenByAreaTimesPower) {
-  const Scene s = emitter_scene();
+  const Scene s = emitters_test_scene();
   const EmitterLights lights(s);
   // 2 + 2 quad triangles and 12 box triangles; the floor does not emit.
   ASSERT_EQ(lights.size(), 16u);
@@ -71,16 +71,16 @@ TEST(Emitters, TrianglesChosenByAreaTimesPower) {
     const EmitterPoint e = lights.sample(u_select, u);
     observed[bin(e.ctx)] += 1;
     // The density a hit on that triangle reads back is the sample's.
-    EXPECT_FLOAT_EQ(lights.pdf_area(triangle_hit(e.ctx.instance, e.ctx.primitive)), e.pdf_area);
+    EXPECT_FLOAT_EQ(lights.pdf_area(emitter_triangle_hit(e.ctx.instance, e.ctx.primitive)), e.pdf_area);
   }
   for (size_t b = 0; b < 16; ++b) expected[b] = kSamples * expected_weight[b] / total;
   const Chi2Result r = chi2_test(observed, expected);
-  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic << " dof " << r.dof;
+  EXPECT_GT(r.p_value, kEmittersAlpha) << "chi2 " << r.statistic << " dof " << r.dof;
   // The density per area integrates to 1 over the emitters: Σ P(triangle) = Σ pdf_area · area.
   double sum = 0;
-  for (uint32_t t = 0; t < 2; ++t) sum += lights.pdf_area(triangle_hit(1, t)) * 0.5;
-  for (uint32_t t = 0; t < 2; ++t) sum += lights.pdf_area(triangle_hit(2, t)) * 1.0;
-  for (uint32_t t = 0; t < 12; ++t) sum += lights.pdf_area(triangle_hit(3, t)) * 0.125;
+  for (uint32_t t = 0; t < 2; ++t) sum += lights.pdf_area(emitter_triangle_hit(1, t)) * 0.5;
+  for (uint32_t t = 0; t < 2; ++t) sum += lights.pdf_area(emitter_triangle_hit(2, t)) * 1.0;
+  for (uint32_t t = 0; t < 12; ++t) sum += lights.pdf_area(emitter_triangle_hit(3, t)) * 0.125;
   EXPECT_NEAR(sum, 1.0, 1e-4);
 }
 
@@ -124,14 +124,14 @@ TEST(Emitters, PointsUniformOverATriangleWithHitNormals) {
       expected[cy * kGrid + cx] = kSamples * inside / (kGrid * kGrid / 2.0);
     }
   const Chi2Result r = chi2_test(observed, expected);
-  EXPECT_GT(r.p_value, kAlpha) << "chi2 " << r.statistic << " dof " << r.dof;
+  EXPECT_GT(r.p_value, kEmittersAlpha) << "chi2 " << r.statistic << " dof " << r.dof;
 }
 
 TEST(Emitters, WhatIsNotSampled) {
-  Scene s = emitter_scene();
+  Scene s = emitters_test_scene();
   const EmitterLights lights(s);
-  EXPECT_EQ(lights.pdf_area(triangle_hit(0, 0)), 0.0f);  // the floor does not emit
-  RayHit leaf = triangle_hit(1, 0);
+  EXPECT_EQ(lights.pdf_area(emitter_triangle_hit(0, 0)), 0.0f);  // the floor does not emit
+  RayHit leaf = emitter_triangle_hit(1, 0);
   leaf.kind = PrimitiveKind::kLeafQuads;
   EXPECT_EQ(lights.pdf_area(leaf), 0.0f);  // another kind on an emitting instance
   // Leaf quads in an emissive material: not sampled (their emission counts at hits only).
