@@ -214,9 +214,13 @@ std::vector<const Params*> Params::tables(std::string_view name) const {
 
 std::filesystem::path Params::file_path(std::string_view name) const {
   const std::string rel = string(name);
-  std::filesystem::path p = resolver_ ? resolver_(rel) : std::filesystem::path(rel);
-  if (p.empty() || !std::filesystem::exists(p)) fail(name, "file not found: " + rel);
-  return p;
+  FileLookup lookup = resolver_ ? resolver_(rel) : FileLookup{rel, {rel}};
+  if (lookup.found.empty() || !std::filesystem::exists(lookup.found)) {
+    std::string tried;
+    for (const std::filesystem::path& p : lookup.tried) tried += (tried.empty() ? "" : ", ") + p.string();
+    fail(name, "file not found: " + rel + (tried.empty() ? "" : " (looked for " + tried + ")"));
+  }
+  return lookup.found;
 }
 
 DenseSpectrum Params::spectrum_of(const ParamValue& v, Extrapolate outside) const {

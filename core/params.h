@@ -9,6 +9,7 @@
 // `file:line: message` (sylva::ParseError). After reading, `check_unused()` rejects keys nobody
 // read ("unknown key 'x' in <where> (expected one of ...)"), which catches typos.
 
+#include "core/data_path.h"
 #include "core/math.h"
 #include "core/spectrum.h"
 
@@ -59,8 +60,9 @@ struct ParamValue {
 };
 
 // Resolves a file name written in a parameter file (relative to that file, then to Sylva's data
-// directory); returns an empty path when the file is not found.
-using FileResolver = std::function<std::filesystem::path(const std::string&)>;
+// directory: find_named_file, core/data_path.h); `found` is empty when the file is not found, and
+// `tried` lists the places looked at, for the message.
+using FileResolver = std::function<FileLookup(const std::string&)>;
 
 class Params {
  public:

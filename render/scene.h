@@ -12,6 +12,7 @@
 #include "render/media/haze.h"
 #include "render/sensors/camera.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -41,13 +42,16 @@ struct Prototype {
   uint32_t disc_material = 0;
 };
 
-// The fixed rows of the class table (Scene::class_names, the `id.class` AOV); species and target
-// labels follow from kFirstNamedClass in the order the scene first names them (docs/scene_format.md).
-inline constexpr uint32_t kClassSky = 0;      // no hit
-inline constexpr uint32_t kClassTerrain = 1;  // [terrain]
-inline constexpr uint32_t kClassGrass = 2;    // grass patches
-inline constexpr uint32_t kClassMesh = 3;     // [[meshes]] without a `label`
-inline constexpr uint32_t kFirstNamedClass = 4;
+// The built-in classes of the class table (Scene::class_names, the `id.class` AOV). Every other
+// class (a species, a target label, a [[meshes]] `class`) has an id from its name alone, in
+// [kFirstNamedClass, kMaxClassId) — the same in every scene and study (scenes/sections/scene_builder.h,
+// class_id_of; docs/scene_format.md "Label AOVs").
+inline constexpr uint32_t kClassSky = 0;           // no hit
+inline constexpr uint32_t kClassTerrain = 1;       // [terrain]
+inline constexpr uint32_t kClassGrass = 2;         // grass patches
+inline constexpr uint32_t kClassMesh = 3;          // [[meshes]] without a `label`
+inline constexpr uint32_t kFirstNamedClass = 16;   // ids 4..15 are kept for later built-ins
+inline constexpr uint32_t kMaxClassId = 1u << 24;  // `id.class` is a float AOV, exact up to 2^24
 
 // The largest object id: ids are written to the float AOV `id.object`, exact up to 2^24.
 inline constexpr uint32_t kMaxObjectId = 1u << 24;
@@ -57,7 +61,7 @@ struct Instance {
   uint32_t prototype = 0;
   Mat4 world_from_object{1.0f};
   uint32_t object_id = 0;          // label written to the `id.object` AOV (e.g. a class or target id); 0 = none
-  uint32_t class_id = kClassMesh;  // row of Scene::class_names, written to `id.class`
+  uint32_t class_id = kClassMesh;  // key of Scene::class_names, written to `id.class`
   uint32_t variant_id = 0;         // 1 + row of the scene file's variant table (a tree's species + seed); 0 = none
 };
 
@@ -115,8 +119,9 @@ struct Scene {
   SunDesc sun;
   SkyDesc sky;
   CameraDesc camera;
-  // The `id.class` table: row i names class i (kClassSky ... kClassMesh, then named classes).
-  std::vector<std::string> class_names{"sky", "terrain", "grass", "mesh"};
+  // The `id.class` table: class id → name (kClassSky ... kClassMesh, then the named classes used).
+  std::map<uint32_t, std::string> class_names{
+      {kClassSky, "sky"}, {kClassTerrain, "terrain"}, {kClassGrass, "grass"}, {kClassMesh, "mesh"}};
   HazeDesc haze;  // optional atmospheric haze (render/media/haze.h); off by default
   PlotDesc plot;
   InstanceLevel instance_level = InstanceLevel::automatic;

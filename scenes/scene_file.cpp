@@ -7,6 +7,7 @@
 #include "scenes/sections/scene_builder.h"
 #include "scenes/sections/scene_sections.h"
 #include "scenes/toml_reader.h"
+#include "scenes/view_metadata.h"
 
 #include <fmt/core.h>
 
@@ -22,21 +23,15 @@ const char* const kDefaultSceneText =
 #include "scenes/default_scene.inc"
     ;
 
-// Relative file names resolve against the scene's directory, then Sylva's data directory. Every
-// file found is appended to `found` (in order, repeats included), so the scene hash can cover it.
+// Relative file names resolve against the scene's directory, then Sylva's data directory
+// (find_named_file). Every file found is appended to `found` (in order, repeats included), so the
+// scene hash can cover it.
 FileResolver file_resolver(const std::filesystem::path& base_dir,
                            const std::shared_ptr<std::vector<std::filesystem::path>>& found) {
-  return [base_dir, found](const std::string& rel) -> std::filesystem::path {
-    const std::filesystem::path p(rel);
-    std::filesystem::path out;
-    if (p.is_absolute())
-      out = std::filesystem::exists(p) ? p : std::filesystem::path();
-    else if (!base_dir.empty() && std::filesystem::exists(base_dir / p))
-      out = base_dir / p;
-    else if (std::filesystem::exists(data_dir() / p))
-      out = data_dir() / p;
-    if (!out.empty()) found->push_back(out);
-    return out;
+  return [base_dir, found](const std::string& rel) {
+    FileLookup lookup = find_named_file(base_dir, rel);
+    if (!lookup.found.empty()) found->push_back(lookup.found);
+    return lookup;
   };
 }
 
@@ -122,6 +117,7 @@ void annotate_render(Image& image, const SceneFile& file, const RenderSettings& 
   for (const Band& b : settings.bands) bands += (bands.empty() ? "" : ",") + b.name;
   image.set_attribute("sylva:bands", bands);
   image.set_attribute("sylva:quantity", quantity_name(settings.quantity));
+  annotate_view(image, file.scene, settings.width, settings.height);
   // The band-weighted horizontal irradiance per channel: the divisor of the reflectance factor.
   const std::vector<float> e = channel_irradiance(Environment(file.scene.sun, file.scene.sky), settings.bands);
   std::string irradiance;

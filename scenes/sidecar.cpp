@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "render/coverage.h"
 #include "render/primitives/primitive.h"
+#include "scenes/view_metadata.h"
 
 #include <fmt/core.h>
 
@@ -121,10 +122,17 @@ std::string header_json(const SceneFile& file, const RenderSettings& settings, c
                      json_string(file.path.empty() ? "<default scene>" : file.path.filename().string()),
                      json_string(file.content_hash), settings.seed);
   out += "  \"aovs\": {\"object\": \"id.object\", \"class\": \"id.class\", \"variant\": \"id.variant\"},\n";
+  out += view_json(scene, image.width, image.height) + ",\n";
+  std::string bands;
+  for (const Band& b : settings.bands) bands += (bands.empty() ? "" : ", ") + json_string(b.name);
+  out += "  \"bands\": [" + bands + "],\n";
 
   out += "  \"classes\": [";
-  for (size_t i = 0; i < scene.class_names.size(); ++i)
-    out += fmt::format("{}\n    {{\"id\": {}, \"name\": {}}}", i ? "," : "", i, json_string(scene.class_names[i]));
+  bool first = true;
+  for (const auto& [id, name] : scene.class_names) {
+    out += fmt::format("{}\n    {{\"id\": {}, \"name\": {}}}", first ? "" : ",", id, json_string(name));
+    first = false;
+  }
   out += "\n  ],\n";
 
   out += "  \"variants\": [";
@@ -164,7 +172,7 @@ std::string objects_json(const SceneFile& file, const std::map<uint32_t, ObjectE
         "{}\n    {{\"id\": {}, \"name\": {}, \"class\": {}, \"class_name\": {}, \"variant\": {}, \"source\": {}, "
         "\"seed\": {}, \"position\": {}, \"bounds\": {}, \"visible_pixels\": {}}}",
         first ? "" : ",", id, json_string(object_name(id, inst)), inst.class_id,
-        json_string(scene.class_names[inst.class_id]), variant, source, seed, vec3(Vec3(inst.world_from_object[3])),
+        json_string(scene.class_names.at(inst.class_id)), variant, source, seed, vec3(Vec3(inst.world_from_object[3])),
         bounds(entry.world), v == visible.end() ? 0 : v->second.pixels);
     first = false;
   }
@@ -194,7 +202,7 @@ std::string targets_json(const SceneFile& file, const RenderSettings& settings, 
         "{}\n    {{\"name\": {}, \"object\": {}, \"label\": {}, \"class\": {}, \"variant\": {}, \"position\": {}, "
         "\"heading\": {}, \"bounds\": {}, \"image_box\": {}, \"visible_pixels\": {}, \"unoccluded_pixels\": {}, "
         "\"visible_fraction\": {}, \"occluded_fraction\": {}}}",
-        i ? "," : "", json_string(t.name), t.object_id, json_string(scene.class_names[t.class_id]), t.class_id,
+        i ? "," : "", json_string(t.name), t.object_id, json_string(scene.class_names.at(t.class_id)), t.class_id,
         t.variant_id, vec3(t.position), number(t.heading_deg), bounds(objects.at(t.object_id).world), box, c.pixels,
         alone[i], alone[i] > 0 ? number(fraction) : "null", alone[i] > 0 ? number(1.0 - fraction) : "null");
   }

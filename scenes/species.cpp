@@ -39,12 +39,8 @@ Species parse_toml(const std::string& text, const std::filesystem::path& file) {
   const toml::table root = reader.parse(text);
   // Files a species names (a TREE-MAKER template) resolve against the species file's directory,
   // then Sylva's data directory.
-  const FileResolver resolver = [dir = file.parent_path()](const std::string& rel) -> std::filesystem::path {
-    const std::filesystem::path p(rel);
-    if (p.is_absolute()) return std::filesystem::exists(p) ? p : std::filesystem::path();
-    if (std::filesystem::exists(dir / p)) return dir / p;
-    if (std::filesystem::exists(data_dir() / p)) return data_dir() / p;
-    return {};
+  const FileResolver resolver = [dir = file.parent_path()](const std::string& rel) {
+    return find_named_file(dir, rel);
   };
   const Params params = reader.to_params(root, "the species file", resolver);
   Species species;

@@ -105,59 +105,124 @@ toml::table parse_override(std::string_view keys, std::string_view value, const 
   }
 }
 
+// One component of an override's path: a key, optionally indexed (`trees[1]`), or a quoted name.
+struct PathPart {
+  std::string key;
+  std::optional<size_t> index;
+  bool quoted = false;  // "a name" (selects an entry of a list of tables by its `name`)
+};
+
+// Splits PATH at the dots outside double quotes; `fail` reports a malformed component.
+template <typename Fail>
+std::vector<PathPart> split_path(std::string_view path, const Fail& fail) {
+  std::vector<PathPart> parts;
+  size_t start = 0;
+  while (start <= path.size()) {
+    PathPart part;
+    size_t end = 0;
+    if (start < path.size() && path[start] == '"') {
+      const size_t close = path.find('"', start + 1);
+      if (close == std::string_view::npos) fail(fmt::format("unterminated quote in '{}'", path));
+      part.key = std::string(path.substr(start + 1, close - start - 1));
+      part.quoted = true;
+      end = close + 1;
+      if (end < path.size() && path[end] != '.') fail(fmt::format("expected '.' after the quoted name in '{}'", path));
+    } else {
+      end = std::min(path.find('.', start), path.size());
+      std::string_view text = path.substr(start, end - start);
+      if (const size_t open = text.find('['); open != std::string_view::npos) {
+        size_t i = 0;
+        const std::string_view digits = text.substr(open + 1, text.size() - open - 2);
+        const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), i);
+        if (text.back() != ']' || digits.empty() || ec != std::errc() || ptr != digits.data() + digits.size())
+          fail(fmt::format("'{}' is not KEY or KEY[INDEX]", text));
+        part.index = i;
+        text = text.substr(0, open);
+      }
+      if (!is_bare_key(text))
+        fail(fmt::format("'{}' is not a key (letters, digits, '_' and '-', joined by dots)", path));
+      part.key = std::string(text);
+    }
+    parts.push_back(std::move(part));
+    start = end + 1;
+  }
+  return parts;
+}
+
+// The entry of the list of tables [[list]] whose `name` is `name` (exactly one).
+template <typename Fail>
+toml::table* entry_named(toml::array& list, std::string_view list_name, const std::string& name, const Fail& fail) {
+  toml::table* found = nullptr;
+  std::string names;
+  size_t count = 0;
+  for (toml::node& e : list) {
+    const toml::value<std::string>* n = e.as_table()->get_as<std::string>("name");
+    if (n == nullptr) continue;
+    names += fmt::format("{}'{}'", names.empty() ? "" : ", ", n->get());
+    if (n->get() == name) {
+      found = e.as_table();
+      ++count;
+    }
+  }
+  if (count == 0)
+    fail(fmt::format("no [[{}]] entry has name = '{}' (names: {})", list_name, name, names.empty() ? "none" : names));
+  if (count > 1)
+    fail(fmt::format("{} [[{}]] entries have name = '{}': index one instead ({}[0], ...)", count, list_name, name,
+                     list_name));
+  return found;
+}
+
 void apply_override(toml::table& document, const std::string& text) {
   const std::string origin = std::string(kOverridePrefix) + text;
   const auto fail = [&](const std::string& what) { throw ParseError(origin, ParseError::kNoLine, what); };
   if (text.find_first_of("\r\n") != std::string::npos) fail("an override is one line");
   const size_t eq = text.find('=');
   if (eq == std::string::npos) fail("expected SECTION.KEY=VALUE, e.g. sun.elevation=10");
-  const std::string_view path = trim(std::string_view(text).substr(0, eq));
   const std::string_view value = trim(std::string_view(text).substr(eq + 1));
-  // Indexed components ("trees[1]") are followed in the document; the keys after the last one are
-  // parsed with the value as a document of their own and merged into the table reached.
+  const std::vector<PathPart> parts = split_path(trim(std::string_view(text).substr(0, eq)), fail);
+  // Lists of tables are entered by index (`trees[1]`) or by an entry's name (`targets.vehicle`,
+  // `targets."grey vehicle"`); the keys after the last one are parsed with the value as a document
+  // of their own and merged into the table reached.
   toml::table* table = &document;
-  std::string keys;
-  size_t start = 0;
-  while (start <= path.size()) {
-    const size_t dot = path.find('.', start);
-    std::string_view part = path.substr(start, dot == std::string_view::npos ? std::string_view::npos : dot - start);
-    start = dot == std::string_view::npos ? path.size() + 1 : dot + 1;
-    std::optional<size_t> index;
-    if (const size_t open = part.find('['); open != std::string_view::npos) {
-      size_t i = 0;
-      const std::string_view digits = part.substr(open + 1, part.size() - open - 2);
-      const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), i);
-      if (part.back() != ']' || digits.empty() || ec != std::errc() || ptr != digits.data() + digits.size())
-        fail(fmt::format("'{}' is not KEY or KEY[INDEX]", part));
-      index = i;
-      part = part.substr(0, open);
-    }
-    if (!is_bare_key(part)) fail(fmt::format("'{}' is not a key (letters, digits, '_' and '-', joined by dots)", path));
-    if (!index) {
-      if (!keys.empty()) keys += '.';
-      keys += part;
-      continue;
-    }
-    // The tables named before the list, which must exist (a list is not created by an override).
-    for (size_t k = 0; !keys.empty() && k != std::string::npos;) {
-      const size_t next = keys.find('.', k);
-      const std::string key = keys.substr(k, next == std::string::npos ? std::string::npos : next - k);
+  std::vector<std::string> keys;
+  const auto enter_keys = [&](const std::string& list) {
+    for (const std::string& key : keys) {
       table = (*table)[key].as_table();
-      if (table == nullptr) fail(fmt::format("there is no table '{}' holding [[{}]]", key, part));
-      k = next == std::string::npos ? next : next + 1;
+      if (table == nullptr) fail(fmt::format("there is no table '{}' holding [[{}]]", key, list));
     }
     keys.clear();
-    if (start > path.size())
-      fail(fmt::format("give a key of {}[{}], e.g. {}[{}].name=...", part, *index, part, *index));
-    toml::array* list = (*table)[part].as_array();
+  };
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const PathPart& part = parts[i];
+    const bool last = i + 1 == parts.size();
+    toml::table* holder = table;
+    for (const std::string& key : keys) holder = holder ? (*holder)[key].as_table() : nullptr;
+    toml::array* list = holder ? (*holder)[part.key].as_array() : nullptr;
+    const bool by_name = !part.index && !part.quoted && !last && list != nullptr && list->is_array_of_tables();
+    if (part.quoted) fail(fmt::format("a quoted name must follow a list of tables, as in targets.\"{}\"", part.key));
+    if (!part.index && !by_name) {
+      keys.push_back(part.key);
+      continue;
+    }
+    enter_keys(part.key);
+    if (last)
+      fail(fmt::format("give a key of {}[{}], e.g. {}[{}].name=...", part.key, *part.index, part.key, *part.index));
     if (list == nullptr || !list->is_array_of_tables())
-      fail(fmt::format("there is no list of tables [[{}]] to index", part));
-    if (*index >= list->size())
-      fail(fmt::format("[[{}]] has {} entr{} (indices from 0)", part, list->size(), list->size() == 1 ? "y" : "ies"));
-    table = list->get(*index)->as_table();
+      fail(fmt::format("there is no list of tables [[{}]] to index", part.key));
+    if (by_name) {
+      table = entry_named(*list, part.key, parts[++i].key, fail);
+      if (i + 1 == parts.size()) fail(fmt::format("give a key of the [[{}]] entry, e.g. .name=...", part.key));
+      continue;
+    }
+    if (*part.index >= list->size())
+      fail(fmt::format("[[{}]] has {} entr{} (indices from 0)", part.key, list->size(),
+                       list->size() == 1 ? "y" : "ies"));
+    table = list->get(*part.index)->as_table();
   }
   if (keys.empty()) fail("expected SECTION.KEY=VALUE, e.g. sun.elevation=10");
-  merge_tables(*table, parse_override(keys, value, origin));
+  std::string dotted;
+  for (const std::string& key : keys) dotted += (dotted.empty() ? "" : ".") + key;
+  merge_tables(*table, parse_override(dotted, value, origin));
 }
 
 }  // namespace

@@ -63,9 +63,9 @@ void make_shape(const Params& t, Prototype& p) {
 
 void parse_meshes(const Params& root, SceneBuilder& b) {
   for (const Params* t : root.tables("meshes")) {
-    t->check_keys({"name",     "shape",     "file",   "material",    "size",       "radius",     "height",
-                   "segments", "tiles",     "count",  "leaf_length", "leaf_width", "leaf_shape", "seed",
-                   "radii",    "translate", "rotate", "scale",       "object_id",  "instances",  "tile"});
+    t->check_keys({"name",   "shape", "file",        "material",   "size",       "radius", "height", "segments",
+                   "tiles",  "count", "leaf_length", "leaf_width", "leaf_shape", "seed",   "radii",  "translate",
+                   "rotate", "scale", "object_id",   "instances",  "tile",       "class"});
     Prototype p;
     p.name = t->string("name", fmt::format("mesh{}", b.scene().prototypes.size()));
     const uint32_t material = b.material_ref(*t, "material");
@@ -77,7 +77,10 @@ void parse_meshes(const Params& root, SceneBuilder& b) {
       make_shape(*t, p);
       (p.leaves.size() > 0 ? p.leaf_material : p.triangle_material) = material;
     }
-    b.place(*t, b.scene().add_prototype(std::move(p)));
+    // A mesh names its class (a pad, a road, the ground) or is of class "mesh".
+    const uint32_t class_id = t->has("class") ? b.class_of(t->string("class")) : kClassMesh;
+    b.mesh_classes.insert(class_id);
+    b.place(*t, b.scene().add_prototype(std::move(p)), class_id);
   }
 }
 

@@ -47,12 +47,20 @@ uint32_t SceneBuilder::material_ref(const Params& t, const char* key) const {
   return it->second;
 }
 
+uint32_t class_id_of(std::string_view name) {
+  static const std::map<uint32_t, std::string> builtins = Scene().class_names;
+  for (const auto& [id, builtin] : builtins)
+    if (builtin == name) return id;
+  return kFirstNamedClass + static_cast<uint32_t>(fnv1a64(name) % (kMaxClassId - kFirstNamedClass));
+}
+
 uint32_t SceneBuilder::class_of(const std::string& name) {
-  std::vector<std::string>& names = out_.scene.class_names;
-  for (size_t i = kFirstNamedClass; i < names.size(); ++i)
-    if (names[i] == name) return static_cast<uint32_t>(i);
-  names.push_back(name);
-  return static_cast<uint32_t>(names.size() - 1);
+  const uint32_t id = class_id_of(name);
+  const auto [it, added] = out_.scene.class_names.emplace(id, name);
+  if (!added && it->second != name)
+    throw Error(fmt::format("classes '{}' and '{}' have the same id {} (class_id_of: a hash of the name); rename one",
+                            it->second, name, id));
+  return id;
 }
 
 uint32_t SceneBuilder::variant_of(const std::string& key, VariantInfo info) {

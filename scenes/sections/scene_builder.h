@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -48,8 +49,9 @@ class SceneBuilder {
   // The material the string `key` of `t` names; fails at it ("unknown material ...") otherwise.
   uint32_t material_ref(const Params& t, const char* key) const;
 
-  // The `id.class` of a name (a species or a target label): its row of the class table, added at
-  // the end the first time (docs/scene_format.md, "Label AOVs").
+  // The `id.class` of a name (a species, a target label, a [[meshes]] `class`): class_id_of(name),
+  // entered in the class table the first time (docs/scene_format.md, "Label AOVs"). Throws Error
+  // if another name of the scene has the same id.
   uint32_t class_of(const std::string& name);
   // The `id.variant` of a generated tree or target mesh, by its key (a new row the first time).
   uint32_t variant_of(const std::string& key, VariantInfo info);
@@ -82,6 +84,9 @@ class SceneBuilder {
   SceneFile finish();
 
   // What one section leaves for later ones.
+  // [[meshes]]: the classes of the meshes placed (kClassMesh or a mesh's `class`), which [[targets]]
+  // snap onto along with the terrain.
+  std::set<uint32_t> mesh_classes{kClassMesh};
   // [camera] above_terrain: position and target z are heights above the [terrain].
   bool camera_above_terrain = false;
   // [lod]: Weber & Penn §5 level of detail for [[trees]], [[placements]] and [vegetation].
@@ -107,6 +112,11 @@ class SceneBuilder {
   uint64_t dependency_hash_ = 0;
   std::unique_ptr<TreeVariantCache> tree_variants_;
 };
+
+// The class id of a name, the same in every scene and study: the built-in classes' own ids
+// (kClassSky "sky", kClassTerrain "terrain", kClassGrass "grass", kClassMesh "mesh"), any other name
+// kFirstNamedClass + FNV-1a 64 of its UTF-8 bytes modulo (kMaxClassId − kFirstNamedClass).
+uint32_t class_id_of(std::string_view name);
 
 // translate = [x,y,z], rotate = [rx,ry,rz] degrees (applied X, then Y, then Z), scale = s or [sx,sy,sz].
 Mat4 read_transform(const Params& t);

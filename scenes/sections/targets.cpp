@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <map>
+#include <set>
 
 namespace sylva {
 
@@ -50,18 +51,18 @@ TargetSpec read_target(const Params& t, const SceneBuilder& b) {
   return s;
 }
 
-// The ground targets snap onto: the [[meshes]] and terrain (classes kClassMesh and kClassTerrain)
-// placed so far, collected on first use.
+// The ground targets snap onto: the [[meshes]] (classes `mesh_classes`) and terrain placed so far,
+// collected on first use.
 class Ground {
  public:
-  explicit Ground(const Scene& scene) : scene_(scene) {}
+  Ground(const Scene& scene, const std::set<uint32_t>& mesh_classes) : scene_(scene), mesh_classes_(mesh_classes) {}
 
   // The highest surface on the vertical lines through the centre and the four corners of
   // `footprint` (x and y), or nullopt if none meets them.
   std::optional<float> height_under(const Bounds3& footprint) {
     if (!made_) {
       for (const Instance& inst : scene_.instances) {
-        if (inst.class_id != kClassMesh && inst.class_id != kClassTerrain) continue;
+        if (mesh_classes_.count(inst.class_id) == 0 && inst.class_id != kClassTerrain) continue;
         const TriangleMesh& mesh = scene_.prototypes[inst.prototype].triangles;
         if (mesh.triangles.empty()) continue;
         meshes_.push_back(PlacedMesh{&mesh, inst.world_from_object, placed_bounds(mesh, inst.world_from_object)});
@@ -82,6 +83,7 @@ class Ground {
 
  private:
   const Scene& scene_;
+  const std::set<uint32_t>& mesh_classes_;
   std::vector<PlacedMesh> meshes_;
   std::vector<uint32_t> prototypes_;  // of meshes_[i]
   bool made_ = false;
@@ -104,7 +106,7 @@ uint32_t target_prototype(const Params& t, const TargetSpec& s, const std::strin
 
 void parse_targets(const Params& root, SceneBuilder& b) {
   std::map<std::string, uint32_t> prototypes;  // by (file, material)
-  Ground ground(b.scene());
+  Ground ground(b.scene(), b.mesh_classes);
   for (const Params* t : root.tables("targets")) {
     const TargetSpec s = read_target(*t, b);
     const std::string key = fmt::format("{}|{}", s.file.string(), s.material);

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "scenes/placement_list.h"
 #include "scenes/scene_file.h"
+#include "scenes/sections/scene_builder.h"
 #include "tests/support/temp_dir.h"
 
 #include <tbb/global_control.h>
@@ -79,8 +80,8 @@ TEST_F(Placements, EachVariantOnceEachRowAnObject) {
   ASSERT_EQ(f.variants.size(), 3u);
   EXPECT_EQ(f.variants[0].seed, 1u);
   EXPECT_EQ(f.variants[1].seed, 2u);
-  EXPECT_EQ(f.variants[2].class_id, kFirstNamedClass + 1);
-  EXPECT_EQ(f.scene.class_names[kFirstNamedClass], f.variants[0].name);
+  EXPECT_EQ(f.variants[2].class_id, class_id_of(f.variants[2].name));
+  EXPECT_EQ(f.scene.class_names.at(f.variants[0].class_id), f.variants[0].name);
   // One instance per row (these species have one prototype), each row its own object.
   ASSERT_EQ(f.scene.instances.size(), 4u);
   std::vector<uint32_t> objects;

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sylva {
@@ -85,6 +86,63 @@ TEST(SceneOverrides, BadValuesNameTheOverride) {
   EXPECT_EQ(error_with({"=3"}).rfind("--set =3: ", 0), 0u);
   EXPECT_EQ(error_with({"sun..x=3"}).rfind("--set sun..x=3: ", 0), 0u);
   EXPECT_EQ(error_with({"sun.elevation=1\nx=2"}), "--set sun.elevation=1\nx=2: an override is one line");
+}
+
+TEST(SceneOverrides, WrongTypesNameTheOverrideAndTheKey) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"render.width=1.5", "--set render.width=1.5: 'width' must be an integer"},
+      {"render.width=\"wide\"", "--set render.width=\"wide\": 'width' must be an integer"},
+      {"camera.position=3", "--set camera.position=3: 'position' must be an array"},
+      {"camera.position=[1, 2]", "--set camera.position=[1, 2]: 'position' must be an array of 3 numbers"},
+      {"sun.elevation=[10]", "--set sun.elevation=[10]: 'elevation' must be a number"},
+      {"meshes[0].material=3", "--set meshes[0].material=3: 'material' must be a string"},
+      {"sun=3", "--set sun=3: '"},
+  };
+  for (const auto& [override, expected] : cases) {
+    const std::string e = error_with({override});
+    EXPECT_EQ(e.rfind(expected, 0), 0u) << override << " gave: " << e;
+  }
+}
+
+// Entries of a list of tables by their `name`: `meshes.box.size`, or quoted, `meshes."the box".size`.
+TEST(SceneOverrides, ListEntriesByName) {
+  const std::string named = kScene + "name = \"the box\"\n";
+  const auto parse_named = [&](const std::vector<std::string>& overrides) {
+    SceneOptions options;
+    options.overrides = overrides;
+    return parse_scene(named, "scene.toml", SYLVA_SOURCE_DIR "/data/examples", options);
+  };
+  const auto error_named = [&](const std::vector<std::string>& overrides) -> std::string {
+    try {
+      parse_named(overrides);
+    } catch (const ParseError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const SceneFile by_index = parse_named({"meshes[1].translate=[3, 0, 0]"});
+  const SceneFile by_name = parse_named({"meshes.\"the box\".translate=[3, 0, 0]"});
+  EXPECT_EQ(by_name.scene.instances[1].world_from_object, by_index.scene.instances[1].world_from_object);
+  EXPECT_FLOAT_EQ(by_name.scene.instances[1].world_from_object[3].x, 3.0f);
+  EXPECT_EQ(error_named({"meshes.lorry.size=1"}),
+            "--set meshes.lorry.size=1: no [[meshes]] entry has name = 'lorry' (names: 'the box')");
+  EXPECT_EQ(error_named({"meshes.\"the box\".sise=1"}).rfind("--set meshes.\"the box\".sise=1: unknown key 'sise'", 0),
+            0u);
+  EXPECT_EQ(error_named({"meshes.\"the box\"=1"}),
+            "--set meshes.\"the box\"=1: give a key of the [[meshes]] entry, e.g. .name=...");
+  EXPECT_EQ(error_named({"sun.\"x\"=1"}),
+            "--set sun.\"x\"=1: a quoted name must follow a list of tables, as in targets.\"x\"");
+  EXPECT_EQ(error_named({"meshes.\"the box.size=1"}).rfind("--set meshes.\"the box.size=1: unterminated quote", 0), 0u);
+  const std::string twice = kScene + "name = \"b\"\n[[meshes]]\nshape = \"box\"\nmaterial = \"grey\"\nname = \"b\"\n";
+  SceneOptions options;
+  options.overrides = {"meshes.b.size=1"};
+  try {
+    parse_scene(twice, "scene.toml", SYLVA_SOURCE_DIR "/data/examples", options);
+    ADD_FAILURE() << "two entries named b";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--set meshes.b.size=1: 2 [[meshes]] entries have name = 'b': index one instead (meshes[0], ...)");
+  }
 }
 
 TEST(SceneOverrides, ChangeTheContentHashInOrder) {

@@ -7,12 +7,14 @@
 #include "render/renderer.h"
 #include "render/sensors/camera.h"
 #include "scenes/scene_file.h"
+#include "scenes/sections/scene_builder.h"
 #include "scenes/sidecar.h"
 #include "tests/support/json_parse.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -133,11 +135,11 @@ ground = "none"
   const Vec3 forward = glm::normalize(Vec3(m * Vec4(0, 1, 0, 0)));
   EXPECT_NEAR(forward.x, std::sin(radians(30.0f)), 1e-6f);
   EXPECT_NEAR(forward.y, std::cos(radians(30.0f)), 1e-6f);
-  // Labels: one class per label, after the fixed rows; distinct object ids; one variant (same mesh
+  // Labels: one class per label, its id from its name; distinct object ids; one variant (same mesh
   // and material) shared by all three.
-  EXPECT_EQ(f.scene.class_names[f.targets[0].class_id], "vehicle");
-  EXPECT_EQ(f.scene.class_names[f.targets[2].class_id], "crate");
-  EXPECT_EQ(f.targets[0].class_id, kFirstNamedClass);
+  EXPECT_EQ(f.scene.class_names.at(f.targets[0].class_id), "vehicle");
+  EXPECT_EQ(f.scene.class_names.at(f.targets[2].class_id), "crate");
+  EXPECT_EQ(f.targets[0].class_id, class_id_of("vehicle"));
   EXPECT_EQ(f.targets[0].class_id, f.targets[1].class_id);
   EXPECT_NE(f.targets[0].object_id, f.targets[1].object_id);
   EXPECT_NE(f.targets[1].object_id, f.targets[2].object_id);
@@ -294,10 +296,11 @@ material = "camo"
 label = "vehicle"
 position = [0, -3, 0]
 )");
-  // Class table: fixed rows, then the two species and the label in the order named.
-  ASSERT_EQ(f.scene.class_names.size(), kFirstNamedClass + 3u);
-  const uint32_t aspen = kFirstNamedClass, tupelo = kFirstNamedClass + 1, vehicle = kFirstNamedClass + 2;
-  EXPECT_EQ(f.scene.class_names[vehicle], "vehicle");
+  // Class table: the built-in classes, then the two species and the label, each id from its name.
+  ASSERT_EQ(f.scene.class_names.size(), 4u + 3u);
+  const uint32_t aspen = class_id_of(f.variants[0].name), tupelo = class_id_of(f.variants[1].name),
+                 vehicle = class_id_of("vehicle");
+  EXPECT_EQ(f.scene.class_names.at(vehicle), "vehicle");
   ASSERT_EQ(f.variants.size(), 3u);
   EXPECT_EQ(f.variants[0].seed, 3u);
   EXPECT_EQ(f.variants[0].class_id, aspen);
@@ -307,13 +310,13 @@ position = [0, -3, 0]
             inst = img.find_channel("id.instance");
   ASSERT_GE(cls, 0);
   ASSERT_GE(var, 0);
-  int seen[8] = {};
+  std::map<uint32_t, int> seen;
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       const auto c = static_cast<uint32_t>(img.at(x, y, cls));
       const auto v = static_cast<uint32_t>(img.at(x, y, var));
       const auto i = static_cast<uint32_t>(img.at(x, y, inst));
-      ASSERT_LT(c, 8u);
+      ASSERT_EQ(f.scene.class_names.count(c), 1u) << c;
       ++seen[c];
       if (i == 0) {
         EXPECT_EQ(c, kClassSky);
