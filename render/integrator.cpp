@@ -55,7 +55,9 @@ Integrator::Integrator(const Scene& scene, const EmbreeScene& embree, const Envi
       faults_(faults),
       has_media_(has_turbid_crowns(scene)),
       haze_(scene.haze),
-      lobes_(scene.materials) {}
+      lobes_(scene.materials) {
+  if (settings_.emitter_sampling != IntegratorSettings::EmitterSampling::kBsdf) emitters_ = EmitterLights(scene);
+}
 
 float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& rays) const {
   if (!has_media_) return 1.0f;
@@ -75,6 +77,34 @@ float Integrator::medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& r
     ray = Ray{offset_ray_origin(ray.origin + hit.t * d, c.entering ? -c.normal : c.normal), d};
     from = hit.instance;
   }
+  return static_cast<float>(std::exp(-optical_depth));
+}
+
+float Integrator::segment_transmittance(const Vec3& o, const Vec3& d, float t_max, float sigma_t,
+                                        uint64_t& rays) const {
+  constexpr int kMaxCrossings = 256;
+  // The distance left is measured to the segment's end each time: a crossing's origin moves off the
+  // boundary, forwards, by as much as the end was moved off the emitter (offset_ray_origin).
+  const Vec3 end = o + t_max * d;
+  double optical_depth = 0.0;
+  float sigma = sigma_t, remaining = t_max;
+  Ray ray{o, d};
+  uint32_t from = kNoInstance;
+  for (int i = 0; i < kMaxCrossings && remaining > 0; ++i) {
+    RayHit hit;
+    ++rays;
+    ray.t_max = remaining;
+    if (!embree_.intersect(ray, &hit, from)) break;
+    const HalfSpaceSolid* crown = turbid_crown(scene_, hit);
+    if (crown == nullptr) return 0.0f;
+    const CrownCrossing c = cross_crown(scene_, hit, *crown, d);
+    optical_depth += static_cast<double>(sigma) * hit.t;
+    sigma = c.entering ? c.sigma_t : 0.0f;
+    ray = Ray{offset_ray_origin(ray.origin + hit.t * d, c.entering ? -c.normal : c.normal), d};
+    remaining = glm::dot(end - ray.origin, d);
+    from = hit.instance;
+  }
+  optical_depth += static_cast<double>(sigma) * std::max(remaining, 0.0f);
   return static_cast<float>(std::exp(-optical_depth));
 }
 
@@ -289,6 +319,7 @@ void Integrator::scatter_in_haze(PathState& path, bool found, const RayHit& hit,
   }
   const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
   path.prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
+  path.emitters_sampled = false;
   ray = Ray{p, wi};
   path.from = kNoInstance;
   roulette_then_next_bounce(path);
@@ -333,6 +364,7 @@ void Integrator::scatter_in_crown(PathState& path, float s) const {
   }
   path.beta *= ps.weight;
   path.prev_pdf = ps.pdf;
+  path.emitters_sampled = false;
   ray = Ray{p, ps.direction};
   path.from = kNoInstance;
   roulette_then_next_bounce(path);
@@ -357,9 +389,8 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
   const HitContext& si = v.ctx;
   const Vec3& ng = v.ng;
   const Bsdf& bsdf = v.bsdf;
-  // Emission: emitters are not sampled as lights, so a camera or BSDF-sampled ray that meets one
-  // takes its whole radiance (the power heuristic's weight when the light-sampling pdf is 0).
-  if (lobes_.emits(si.material)) path.L += path.beta * lobes_.emitted(si);
+  // Emission, weighted against the previous vertex's light sample on the emitters (integrator.h).
+  if (lobes_.emits(si.material)) path.L += path.beta * lobes_.emitted(si) * emission_weight(path, hit, si);
   if (path.first && path.depth == 0) record_first_hit(si, bsdf, ray, hit.t, path.first);
   if (path.depth + 1 > settings_.max_depth) {
     path.alive = false;
@@ -390,6 +421,9 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
     }
   }
 
+  // Next-event estimation towards the emitters, in scenes that have some.
+  if (!emitters_.empty()) sample_emitter(path, v);
+
   // Continue the path by sampling the BSDF.
   const Vec2 u_bsdf = uniform2(rng);
   const float u_lobe = rng.uniform();
@@ -398,10 +432,81 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
     return;
   }
   path.from = si.instance;
+  path.emitters_sampled = !emitters_.empty();
+  path.prev_p = si.p;
   roulette_then_next_bounce(path);
 }
 
+void Integrator::sample_emitter(PathState& path, const SurfaceVertex& v) const {
+  // A point on an emitter (by power, then uniform on its triangle), as a direction: the density per
+  // area times d²/|cos θ_light| (Veach 1997 §9.2; pbrt-v4 §12.3 "Area lights").
+  const float u_select = path.rng->uniform();
+  const Vec2 u = uniform2(*path.rng);
+  EmitterPoint e = emitters_.sample(u_select, u);
+  const Vec3 to = e.ctx.p - v.ctx.p;
+  const float dist2 = glm::dot(to, to);
+  if (!(e.pdf_area > 0) || !(dist2 > 0)) return;
+  const Vec3 wi = to / std::sqrt(dist2);
+  const float cos_light = -glm::dot(e.ctx.ng, wi);  // > 0: the vertex faces the emitter's front
+  if (cos_light == 0) return;
+  e.ctx.front = cos_light > 0;
+  e.ctx.wl = &path.wl;
+  const SampledSpectrum le = lobes_.emitted(e.ctx);
+  if (is_black(le)) return;
+  const Vec3 wi_local = v.frame.to_local(wi);
+  const float cos_g = glm::dot(wi, v.ng);
+  const bool transmits = cos_g < 0;
+  if ((wi_local.z > 0) != !transmits || cos_g == 0) return;  // shading/geometry disagreement
+  const SampledSpectrum f = v.bsdf.eval(v.wo_local, wi_local);
+  if (is_black(f)) return;
+  const float pdf = e.pdf_area * dist2 / std::abs(cos_light);
+  const bool light_only = settings_.emitter_sampling == IntegratorSettings::EmitterSampling::kLight;
+  const float w = light_only ? 1.0f : power_heuristic(pdf, v.bsdf.pdf(v.wo_local, wi_local));
+  // The shadow ray runs between the two points, each moved off its surface towards the other.
+  const Vec3 origin = offset_ray_origin(v.ctx.p, transmits ? -v.ng : v.ng);
+  const Vec3 d = offset_ray_origin(e.ctx.p, e.ctx.front ? e.ctx.ng : -e.ctx.ng) - origin;
+  const float length = glm::length(d);
+  if (!(length > 0)) return;
+  ShadowQuery& q = path.emitter_shadow;
+  q = ShadowQuery{ShadowQuery::Kind::kEmitter,
+                  v.ctx.instance,
+                  origin,
+                  d / length,
+                  path.beta * f * std::abs(wi_local.z),
+                  SampledSpectrum(1.0f),
+                  le,
+                  w,
+                  pdf};
+  q.t_max = length;
+  q.sigma_t = path.sigma_t;
+}
+
+float Integrator::emission_weight(const PathState& path, const RayHit& hit, const HitContext& si) const {
+  // A camera ray, or a ray from a medium vertex or in a scene without sampled emitters: weight 1.
+  if (path.depth == 0 || !path.emitters_sampled) return 1.0f;
+  const float pdf_area = emitters_.pdf_area(hit);
+  if (!(pdf_area > 0)) return 1.0f;  // not a sampled emitter
+  if (settings_.emitter_sampling == IntegratorSettings::EmitterSampling::kLight) return 0.0f;
+  const float cos_light = std::abs(glm::dot(si.ng, path.ray.direction));
+  if (!(cos_light > 0)) return 1.0f;
+  const Vec3 d = si.p - path.prev_p;
+  return power_heuristic(path.prev_pdf, pdf_area * glm::dot(d, d) / cos_light);
+}
+
+void Integrator::resolve_emitter_shadow(PathState& path, uint64_t& rays) const {
+  const ShadowQuery& q = path.emitter_shadow;
+  path.emitter_shadow.kind = ShadowQuery::Kind::kNone;
+  ++rays;
+  if (embree_.occluded(q.origin, q.direction, q.t_max, q.from)) return;
+  const float transmittance =
+      has_media_ ? segment_transmittance(q.origin, q.direction, q.t_max, q.sigma_t, rays) : 1.0f;
+  SampledSpectrum contribution = q.a * q.c * (q.x * transmittance / q.y);
+  if (haze_.enabled()) contribution *= haze_.transmittance(q.origin, q.direction, q.t_max, path.wl);
+  path.L += contribution;
+}
+
 void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
+  if (path.emitter_shadow.kind != ShadowQuery::Kind::kNone) resolve_emitter_shadow(path, rays);
   // The expressions radiance() had in line, term by term in the same order (same bits).
   const ShadowQuery& q = path.shadow;
   const ShadowQuery::Kind kind = q.kind;
@@ -411,6 +516,7 @@ void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
   if (embree_.occluded(q.origin, q.direction, std::numeric_limits<float>::infinity(), q.from)) return;
   switch (kind) {
     case ShadowQuery::Kind::kNone:
+    case ShadowQuery::Kind::kEmitter:  // resolve_emitter_shadow
       break;
     case ShadowQuery::Kind::kSky:  // a haze collision: a = β, c = L_e, x = phase · w / pdf
       path.L += q.a * q.c * sky_transmittance(q.origin, q.direction, path.wl, rays) * q.x;

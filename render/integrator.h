@@ -5,13 +5,16 @@
 // turbid crowns (render/materials/leaf_medium.h) and the optional haze (render/media/haze.h), each
 // sampled by free flight; a haze collision scatters by the Henyey–Greenstein phase function.
 // Emission: an emitting material's radiance (render/materials/emissive.h) counts where a camera
-// or BSDF-sampled ray meets it, with weight 1. Emitters are not among the sampled lights (only
-// the sun and sky are), so no light sample can reach one and the unweighted hit is the whole,
-// unbiased estimate; sampling emitters as lights (and weighting both by MIS) is future work.
-
+// ray meets it, and the emissive triangles are lights too (render/lights/emitters.h): each surface
+// vertex samples a point on them for next-event estimation (one more shadow ray, a finite one), and
+// a BSDF-sampled ray that meets one counts its radiance with the power-heuristic weight of the BSDF
+// sample against that light sample (Veach 1997 §9.2). Medium vertices (haze, turbid crowns) sample
+// only the sun and sky, so emission met after one counts with weight 1, as does emission that is not
+// sampled (emitters.h). A scene without emitters draws no random number for them.
 #include "core/band.h"
 #include "core/rng.h"
 #include "render/embree_scene.h"
+#include "render/lights/emitters.h"
 #include "render/materials/hit_context.h"
 #include "render/materials/material.h"
 #include "render/media/haze.h"
@@ -33,6 +36,13 @@ struct IntegratorSettings {
   // more occlusion ray per camera path that meets a surface. Changes no path's radiance or random
   // numbers.
   bool first_hit_features = false;
+  // Which estimators of emitted light run: the light samples and BSDF-sampled hits weighted by MIS
+  // (kMis, the default), or for tests and debugging one alone: kBsdf (emitters are not sampled as
+  // lights; hits count with weight 1), kLight (emission a BSDF-sampled ray meets after a surface
+  // vertex is not counted; light samples count with weight 1). Each is unbiased; no command line
+  // sets it.
+  enum class EmitterSampling : uint8_t { kMis, kBsdf, kLight };
+  EmitterSampling emitter_sampling = EmitterSampling::kMis;
 };
 
 // A path's vertex on a surface, as every walk sees it (camera paths, the plot sensor's flux walk):
@@ -82,12 +92,16 @@ struct ShadowQuery {
     kSkyLeaf,    // from a crown collision in haze: a = β, b = f, c = L_e, x = w, y = pdf
     kCrownLeaf,  // from a crown collision: a = β, b = f, c = L_e, x = w, y = pdf
     kSurface,    // from a surface: a = β · f · |cos θ|, c = L_e, x = w, y = pdf
+    kEmitter,    // from a surface to an emitter's point: as kSurface, the ray ends at t_max, and
+                 // starts in a turbid crown of extinction sigma_t (0: none)
   };
   Kind kind = Kind::kNone;
   uint32_t from = kNoInstance;  // the instance whose surface the ray leaves (EmbreeScene::occluded)
   Vec3 origin{0.0f}, direction{0.0f};
   SampledSpectrum a{0.0f}, b{0.0f}, c{0.0f};
   float x = 0, y = 0;
+  float t_max = std::numeric_limits<float>::infinity();
+  float sigma_t = 0;
 };
 
 // One path in flight: what radiance() keeps from bounce to bounce. A caller may hold several and
@@ -115,7 +129,10 @@ struct PathState {
     crossings = 0;
     depth = 0;
     alive = true;
+    emitters_sampled = false;
+    prev_p = Vec3(0.0f);
     shadow.kind = ShadowQuery::Kind::kNone;
+    emitter_shadow.kind = ShadowQuery::Kind::kNone;
   }
 
   Ray ray;                      // the next ray to trace
@@ -134,11 +151,16 @@ struct PathState {
   int crossings = 0;
   int depth = 0;
   bool alive = true;
-  ShadowQuery shadow;  // this bounce's next-event shadow ray, if any
+  // Whether the vertex `ray` leaves is a surface that sampled the emitters (so emission it meets is
+  // weighted by MIS), and that vertex's position (for the light sample's density there).
+  bool emitters_sampled = false;
+  Vec3 prev_p{0.0f};
+  ShadowQuery shadow;          // this bounce's next-event shadow ray, if any
+  ShadowQuery emitter_shadow;  // this bounce's shadow ray to an emitter (render/lights/emitters.h), if any
 };
 // start() sets every field but the shadow query's payload (read only once its kind is set): a field
 // added to PathState must be added there too.
-static_assert(sizeof(PathState) == 240, "PathState::start() must set every field");
+static_assert(sizeof(PathState) == 360, "PathState::start() must set every field");
 
 class Integrator {
  public:
@@ -176,6 +198,9 @@ class Integrator {
   // σ_t = G·LAD; assumes no opaque surface on the way (check occluded() first) and crowns that do
   // not overlap. 1 in scenes without turbid crowns.
   float medium_transmittance(const Vec3& o, const Vec3& d, uint64_t& rays) const;
+  // The same along the segment o + t d, t in [0, t_max), which starts in a turbid crown of extinction
+  // sigma_t (0: outside every crown) and may end inside one (a shadow ray to an emitter).
+  float segment_transmittance(const Vec3& o, const Vec3& d, float t_max, float sigma_t, uint64_t& rays) const;
 
   // Next-event estimation's light sample, the one place the transport samples lights: draws its two
   // random numbers always (so a path's draws do not depend on the scene's lights), then samples the
@@ -195,6 +220,7 @@ class Integrator {
   bool has_media_ = false;  // some prototype has a turbid crown
   Haze haze_;               // the scene's haze; disabled: no extra work, no random numbers
   MaterialLobes lobes_;     // the scene's materials as evaluated at hits (BSDFs, emission)
+  EmitterLights emitters_;  // the emitters sampled as lights; empty: no random numbers for them
 
   // trace_paths' stages: advance() shades path.ray's hit, leaving the bounce's shadow ray in
   // path.shadow and the next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
@@ -209,6 +235,11 @@ class Integrator {
   void cross_crown_boundary(PathState& path, const RayHit& hit, const HalfSpaceSolid& crown) const;
   void scatter_at_surface(PathState& path, const RayHit& hit) const;
   void roulette_then_next_bounce(PathState& path) const;
+  // A surface vertex's light sample on the emitters (path.emitter_shadow), and the MIS weight of
+  // emission that a ray leaving the previous vertex meets at `hit` (si its context).
+  void sample_emitter(PathState& path, const SurfaceVertex& v) const;
+  float emission_weight(const PathState& path, const RayHit& hit, const HitContext& si) const;
+  void resolve_emitter_shadow(PathState& path, uint64_t& rays) const;
   void record_first_hit(const HitContext& si, const Bsdf& bsdf, const Ray& ray, float t, FirstHit* first) const;
   // The first-hit features of FirstHit (first_hit_features).
   void record_first_hit_features(const HitContext& si, const Ray& ray, FirstHit* first) const;

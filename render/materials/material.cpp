@@ -65,6 +65,17 @@ SampledSpectrum emitted_radiance(const Material& material, const HitContext& ctx
   return std::visit([&](const auto& m) { return emitted_of(m, ctx); }, material);
 }
 
+float emitted_power_w_m2(const Material& material) {
+  return std::visit(
+      [](const auto& m) {
+        if constexpr (requires { m.emitted_power_w_m2(); })
+          return m.emitted_power_w_m2();
+        else
+          return 0.0f;
+      },
+      material);
+}
+
 const DenseSpectrum& display_reflectance(const Material& material) {
   return std::visit([](const auto& m) -> const DenseSpectrum& { return m.display_reflectance(); }, material);
 }

@@ -10,6 +10,7 @@
 //   void scale_reflectance(float factor);                      // every reflectance × factor
 // and, if it emits,
 //   SampledSpectrum emitted(const HitContext&) const;          // radiance towards wo (ctx.front)
+//   float emitted_power_w_m2() const;                          // π ∫ L_e dλ over its faces
 // Adding a material = its files + one entry in the `Material` variant below. Nothing outside
 // render/materials/ visits material types: it calls the functions below.
 
@@ -40,6 +41,9 @@ Bsdf material_bsdf(const Material& material, const HitContext& ctx);
 // Whether `material` emits, and its emitted radiance (W·m⁻²·sr⁻¹·nm⁻¹) towards wo at `ctx`.
 bool emits(const Material& material);
 SampledSpectrum emitted_radiance(const Material& material, const HitContext& ctx);
+// Its emitted power per unit area, W·m⁻² (0 for a material that does not emit): the light
+// sampler's weight (render/lights/emitters.h).
+float emitted_power_w_m2(const Material& material);
 
 // The spectrum a viewer sees as the material's colour (its front reflectance; the OBJ exporter's
 // Kd), and whether the plot sensor's flux budget counts its absorption as the leaves' (fAPAR).
