@@ -2,7 +2,9 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "pipeline/study_annotations.h"
 #include "render/session.h"
+#include "scenes/sections/scene_builder.h"
 #include "scenes/sidecar.h"
 #include "scenes/tree_variants.h"
 
@@ -14,6 +16,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <ostream>
 
@@ -30,20 +33,82 @@ uint64_t max_rss_bytes() {
 }
 
 struct FramePaths {
-  std::filesystem::path exr, sidecar, png;
+  std::filesystem::path exr, sidecar, png, coco, yolo, voc;
 };
 
 FramePaths frame_paths(const StudySpec& spec, const std::filesystem::path& dir, const StudyFrame& frame) {
   FramePaths p;
-  p.exr = dir / "frames" / (frame.id + ".exr");
+  const std::filesystem::path stem = dir / "frames" / frame.id;
+  p.exr = stem.string() + ".exr";
   p.sidecar = sidecar_path(p.exr);
-  if (spec.png) p.png = dir / "frames" / (frame.id + ".png");
+  if (spec.png) p.png = stem.string() + ".png";
+  p.coco = stem.string() + ".coco.json";
+  p.yolo = stem.string() + ".txt";
+  p.voc = stem.string() + ".xml";
   return p;
 }
 
+// Every output of the frame; the annotations are written last.
 bool frame_finished(const FramePaths& p) {
-  return std::filesystem::exists(p.exr) && std::filesystem::exists(p.sidecar) &&
-         (p.png.empty() || std::filesystem::exists(p.png));
+  for (const std::filesystem::path* f : {&p.exr, &p.sidecar, &p.png, &p.coco, &p.yolo, &p.voc})
+    if (!f->empty() && !std::filesystem::exists(*f)) return false;
+  return true;
+}
+
+// The YOLO class list: the labels of the base scene's targets and every label a factor gives a
+// target (`set = "targets.NAME.label"`), by class id.
+std::vector<std::string> study_classes(const StudySpec& spec, const SceneFile& base) {
+  std::map<uint32_t, std::string> classes;
+  for (const TargetInfo& t : base.targets) classes[t.class_id] = base.scene.class_names.at(t.class_id);
+  for (const StudyFactor& f : spec.factors) {
+    if (f.set.size() < 6 || f.set.compare(f.set.size() - 6, 6, ".label") != 0) continue;
+    for (const std::string& v : f.values)
+      if (v.size() >= 2 && v.front() == '"' && v.back() == '"') {
+        const std::string name = v.substr(1, v.size() - 2);
+        classes[class_id_of(name)] = name;
+      }
+  }
+  std::vector<std::string> out;
+  for (const auto& [id, name] : classes) out.push_back(name);
+  return out;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  write_file_atomic(path, [&](std::ostream& out) { out << text; });
+}
+
+// Renders a frame and writes its annotations; returns the render's result.
+RenderResult render_frame(const RenderCallOptions& call, const StudyFrame& frame, const FramePaths& paths,
+                          const std::vector<std::string>& classes, int threads, RenderObserver& observer) {
+  const LoadedScene loaded = load_render(call, observer);
+  RenderResult r = render_loaded(loaded, call, observer);
+  if (r.status != RenderStatus::finished) return r;
+  FrameAnnotationInput in;
+  in.frame_index = frame.index;
+  in.frame_id = frame.id;
+  in.image_file = (std::filesystem::path("frames") / paths.exr.filename()).string();
+  in.file = &loaded.job.file;
+  in.image = &r.image;
+  in.targets = annotate_targets(loaded.job.file, r.image, threads);
+  write_text(paths.voc, frame_voc(in));
+  write_text(paths.yolo, frame_yolo(in, classes));
+  write_text(paths.coco, frame_coco(in));
+  return r;
+}
+
+// The study's COCO file and YOLO class list, once every frame of the study is finished.
+void write_study_annotations(const StudySpec& spec, const StudyResult& result,
+                             const std::vector<std::string>& classes) {
+  std::vector<std::filesystem::path> files;
+  for (const StudyFrame& frame : result.frames) {
+    const FramePaths p = frame_paths(spec, result.output_dir, frame);
+    if (!frame_finished(p)) return;
+    files.push_back(p.coco);
+  }
+  std::string names;
+  for (const std::string& c : classes) names += c + "\n";
+  write_text(result.output_dir / "yolo_classes.txt", names);
+  write_text(result.output_dir / "coco.json", study_coco(files, spec.file.filename().string()));
 }
 
 // A CSV field: quoted when it holds a comma, quote or line break (RFC 4180).
@@ -118,7 +183,7 @@ std::string manifest_csv(const StudySpec& spec, const std::vector<StudyFrame>& f
     out += ',';
     out += csv_field(f.name);
   }
-  out += ",exr,sidecar,png,overrides\n";
+  out += ",exr,sidecar,png,coco,yolo,voc,overrides\n";
   for (const StudyFrame& frame : frames) {
     const FramePaths p = frame_paths(spec, "", frame);
     out += fmt::format("{},{}", frame.index, frame.id);
@@ -129,7 +194,8 @@ std::string manifest_csv(const StudySpec& spec, const std::vector<StudyFrame>& f
     std::string overrides;
     for (const std::string& o : frame.overrides)
       overrides += fmt::format("{}--set '{}'", overrides.empty() ? "" : " ", o);
-    out += fmt::format(",{},{},{},{}\n", p.exr.string(), p.sidecar.string(), p.png.string(), csv_field(overrides));
+    out += fmt::format(",{},{},{},{},{},{},{}\n", p.exr.string(), p.sidecar.string(), p.png.string(), p.coco.string(),
+                       p.yolo.string(), p.voc.string(), csv_field(overrides));
   }
   return out;
 }
@@ -153,9 +219,10 @@ std::string manifest_json(const StudySpec& spec, const std::vector<StudyFrame>& 
       overrides += fmt::format("{}{}", overrides.empty() ? "" : ", ", json_string(o));
     out += fmt::format(
         "{}\n    {{\"frame\": {}, \"id\": \"{}\", \"values\": {{{}}}, \"overrides\": [{}], \"exr\": {}, "
-        "\"sidecar\": {}, \"png\": {}}}",
+        "\"sidecar\": {}, \"png\": {}, \"coco\": {}, \"yolo\": {}, \"voc\": {}}}",
         frame.index ? "," : "", frame.index, frame.id, values, overrides, json_string(p.exr.string()),
-        json_string(p.sidecar.string()), p.png.empty() ? "null" : json_string(p.png.string()));
+        json_string(p.sidecar.string()), p.png.empty() ? "null" : json_string(p.png.string()),
+        json_string(p.coco.string()), json_string(p.yolo.string()), json_string(p.voc.string()));
   }
   return out + "\n  ]\n}\n";
 }
@@ -171,6 +238,7 @@ StudyResult run_study(const StudySpec& spec, const StudyRunOptions& options, Ren
   base_options.tree_memo = memo;
   const SceneFile base = load_scene_file(spec.scene, base_options);
   result.frames = plan_study(spec, base);
+  const std::vector<std::string> classes = study_classes(spec, base);
   std::filesystem::create_directories(result.output_dir / "frames");
   result.manifest_csv = result.output_dir / "manifest.csv";
   result.manifest_json = result.output_dir / "manifest.json";
@@ -189,7 +257,8 @@ StudyResult run_study(const StudySpec& spec, const StudyRunOptions& options, Ren
       ++result.skipped;
     } else {
       memo->next_scene();
-      const RenderResult r = render_scene(frame_call(spec, options, paths, frame, memo), observer);
+      const RenderResult r =
+          render_frame(frame_call(spec, options, paths, frame, memo), frame, paths, classes, options.threads, observer);
       if (r.status != RenderStatus::finished) {
         result.status = r.status;
         result.stopped_at = frame.id;
@@ -208,6 +277,7 @@ StudyResult run_study(const StudySpec& spec, const StudyRunOptions& options, Ren
     progress.frame_id = frame.id;
     if (on_progress) on_progress(progress);
   }
+  if (result.status == RenderStatus::finished && !options.plan_only) write_study_annotations(spec, result, classes);
   result.seconds = std::chrono::duration<double>(StudyClock::now() - t0).count();
   result.max_rss_bytes = max_rss_bytes();
   result.trees_generated = memo->generated();
