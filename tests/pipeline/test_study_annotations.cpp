@@ -22,7 +22,7 @@ namespace sylva {
 namespace {
 
 // The vehicle behind a wall that hides its left part, seen from the south.
-const std::string kScene = R"([render]
+const std::string kAnnotatedScene = R"([render]
 width = 48
 height = 32
 spp = 1
@@ -58,7 +58,7 @@ position = [0, 0, 0]
 heading = 90
 )";
 
-std::string read_text(const std::filesystem::path& p) {
+std::string read_whole_file(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
@@ -108,7 +108,7 @@ TEST_F(StudyAnnotations, RleRoundTrip) {
 }
 
 TEST_F(StudyAnnotations, MasksBoxesAndCocoAgreeWithTheIdAovs) {
-  std::ofstream(dir_ / "scene.toml") << kScene;
+  std::ofstream(dir_ / "scene.toml") << kAnnotatedScene;
   std::ofstream(dir_ / "study.toml") << "[study]\nscene = \"scene.toml\"\noutput = \"out\"\n[[factors]]\nname = "
                                         "\"elevation\"\nset = \"sun.elevation\"\nvalues = [30, 60]\n";
   RenderObserver observer;
@@ -119,10 +119,10 @@ TEST_F(StudyAnnotations, MasksBoxesAndCocoAgreeWithTheIdAovs) {
   const std::filesystem::path out = dir_ / "out";
   const std::string id = r.frames[0].id;
   const Image image = read_exr(out / "frames" / (id + ".exr"));
-  const test::Json coco = test::JsonParser(read_text(out / "frames" / (id + ".coco.json"))).parse();
+  const test::Json coco = test::JsonParser(read_whole_file(out / "frames" / (id + ".coco.json"))).parse();
   ASSERT_EQ(coco["annotations"].array.size(), 1u);
   const test::Json& a = coco["annotations"][0];
-  const test::Json sidecar = test::JsonParser(read_text(out / "frames" / (id + ".json"))).parse();
+  const test::Json sidecar = test::JsonParser(read_whole_file(out / "frames" / (id + ".json"))).parse();
   const auto object = static_cast<float>(sidecar["targets"][0]["object"].number);
   // The modal box and mask are the id AOV's.
   const PixelBox modal = box_of(image, object);
@@ -171,7 +171,7 @@ TEST_F(StudyAnnotations, MasksBoxesAndCocoAgreeWithTheIdAovs) {
   EXPECT_EQ(cls, 0);
   EXPECT_NEAR(bw, modal.width() / 48.0, 1e-6);
   EXPECT_NEAR(cx, (modal.x0 + 0.5 * modal.width()) / 48.0, 1e-6);
-  const std::string voc = read_text(out / "frames" / (id + ".xml"));
+  const std::string voc = read_whole_file(out / "frames" / (id + ".xml"));
   EXPECT_NE(voc.find("<xmin>" + std::to_string(modal.x0 + 1) + "</xmin>"), std::string::npos);
   EXPECT_NE(voc.find("<occluded>1</occluded>"), std::string::npos);
 
@@ -179,8 +179,8 @@ TEST_F(StudyAnnotations, MasksBoxesAndCocoAgreeWithTheIdAovs) {
   ASSERT_TRUE(std::filesystem::exists(out / "coco.json"));
   const std::string command = "python3 " SYLVA_SOURCE_DIR "/tests/pipeline/check_coco.py '" +
                               (out / "coco.json").string() + "' > '" + (dir_ / "check.txt").string() + "' 2>&1";
-  EXPECT_EQ(std::system(command.c_str()), 0) << read_text(dir_ / "check.txt");
-  const test::Json study = test::JsonParser(read_text(out / "coco.json")).parse();
+  EXPECT_EQ(std::system(command.c_str()), 0) << read_whole_file(dir_ / "check.txt");
+  const test::Json study = test::JsonParser(read_whole_file(out / "coco.json")).parse();
   EXPECT_EQ(study["images"].array.size(), 2u);
   EXPECT_EQ(study["annotations"].array.size(), 2u);
 }
