@@ -126,21 +126,22 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
   constexpr int kBatch = 8;
   static_assert(kBatch <= Integrator::kMaxPaths);
   Pcg32 rngs[kBatch];
+  PathSampler samplers[kBatch];
   FirstHit firsts[kBatch];
   PathState paths[kBatch];
   Vec3 directions[kBatch];
   for (uint32_t batch = first_sample; batch < end_sample; batch += kBatch) {
     const int n = static_cast<int>(std::min<uint32_t>(kBatch, end_sample - batch));
     for (int k = 0; k < n; ++k) {
-      Pcg32& rng = rngs[k];
-      rng = Pcg32(hash_ids(settings_.seed, pixel_id, batch + static_cast<uint32_t>(k)));
-      const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + uniform2(rng);
-      const Vec2 lens = uniform2(rng);
-      const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
+      PathSampler& sampler = samplers[k];
+      sampler.start(settings_.sampler, rngs[k], settings_.seed, pixel_id, batch + static_cast<uint32_t>(k));
+      const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + sampler.get2d(SampleDim::kPixel);
+      const Vec2 lens = sampler.get2d(SampleDim::kLens);
+      const SampledWavelengths wl = wavelengths_.sample(sampler.get1d(SampleDim::kWavelength));
       firsts[k] = FirstHit{};
       const Ray ray = camera_.generate_ray(film_pos, lens);
       directions[k] = ray.direction;
-      paths[k].start(ray, wl, rng, &firsts[k]);
+      paths[k].start(ray, wl, sampler, &firsts[k]);
     }
     integrator_->trace_paths({paths, static_cast<size_t>(n)}, rays);
     for (int k = 0; k < n; ++k) add_sample(film, x, y, paths[k].wl, paths[k].L, firsts[k], directions[k]);

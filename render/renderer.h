@@ -2,8 +2,8 @@
 // Rendering a Scene into a Film, and a Film into an Image (EXR channels).
 //
 // A render covers a region of the image and a range of sample indices; work is split into square
-// tiles rendered in parallel with TBB. Every sample's random numbers come from a PCG32 stream hashed
-// from (seed, pixel, sample index), and each pixel's samples are accumulated in order by one thread
+// tiles rendered in parallel with TBB. Every sample's random numbers depend on (seed, pixel, sample
+// index) alone (core/sampler.h), and each pixel's samples are accumulated in order by one thread
 // (render/film.h), so the result is bit-identical at any thread count, whether or not the render
 // was interrupted and resumed, and when it is split into regions or sample ranges whose films are
 // merged (Film::merge).
@@ -28,6 +28,9 @@ struct RenderSettings {
   int height = 360;
   int spp = 64;  // samples per pixel to reach
   uint64_t seed = 1;
+  // The pixel samples' random numbers (core/sampler.h): Owen-scrambled Sobol' points, or
+  // independent PCG32 draws (every render before issue 41; `sampler = "independent"`).
+  SamplerKind sampler = SamplerKind::kSobol;
   int threads = 0;  // 0 = all hardware threads
   int tile_size = 16;
   std::vector<Band> bands;  // at least one

@@ -89,6 +89,7 @@ std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& 
   std::string key = fmt::format("sylva {} scene {} seed {} res {}x{} depth {} bands", SYLVA_VERSION, scene_hash,
                                 settings.seed, settings.width, settings.height, settings.integrator.max_depth);
   for (const Band& b : settings.bands) key += " " + b.name;
+  key += fmt::format(" sampler {}", sampler_name(settings.sampler));
   if (settings.quantity != Quantity::radiance) key += fmt::format(" quantity {}", quantity_name(settings.quantity));
   if (settings.features) key += " features";
   return key;

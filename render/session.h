@@ -83,7 +83,7 @@ struct SessionResult {
 std::filesystem::path checkpoint_path_for(const std::filesystem::path& output);
 
 // What a checkpoint of this render must match: everything that changes the samples (Sylva's
-// version, the scene's content hash, seed, resolution, depth and band names).
+// version, the scene's content hash, seed, resolution, depth, band names and sampler).
 std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& settings);
 
 class RenderSession {

@@ -18,7 +18,7 @@ static InstanceLevel parse_instancing(const Params& t) {
 
 void parse_render(const Params& root, SceneBuilder& b) {
   const Params* t = root.table("render");
-  t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing", "isa"});
+  t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing", "isa", "sampler"});
   SceneFile& out = b.file();
   RenderSettings& rs = out.render;
   rs.width = static_cast<int>(t->integer("width", rs.width, 1, 65536));
@@ -37,6 +37,10 @@ void parse_render(const Params& root, SceneBuilder& b) {
   if (quantity != "radiance" && quantity != "reflectance")
     t->fail("quantity", "quantity must be \"radiance\" or \"reflectance\"");
   rs.quantity = parse_quantity(quantity);
+  const std::string sampler = t->string("sampler", sampler_name(rs.sampler));
+  if (sampler != "sobol" && sampler != "independent")
+    t->fail("sampler", "sampler must be \"sobol\" (the default) or \"independent\"");
+  rs.sampler = sampler == "sobol" ? SamplerKind::kSobol : SamplerKind::kIndependent;
   if (t->has("isa")) {
     try {
       rs.isa = parse_embree_isa(t->string("isa", embree_isa_name(rs.isa)));
