@@ -61,6 +61,14 @@ class PathSampler {
     }
     event_ = 0;
   }
+  // Sample `index` of stream `stream` (0 or 1) of pixel `pixel`: adaptive sampling's two
+  // independent sequences per pixel (render/renderer.h). Stream s's sample j is the pixel's sample
+  // 2j + s for the independent sampler; for Sobol' each stream is its own scrambled sequence.
+  void start_stream(SamplerKind kind, Pcg32& rng, uint64_t seed, uint64_t pixel, uint32_t stream, uint32_t index) {
+    if (kind == SamplerKind::kIndependent) return start(kind, rng, seed, pixel, 2 * index + stream);
+    start(kind, rng, seed, pixel, index);
+    pixel_seed_ = hash_ids(pixel_seed_, uint64_t{0x5354524du} + stream);
+  }
   // Moves to the dimensions of the path's event `event` (≥ 1; 0 is the camera's).
   void start_event(uint32_t event) { event_ = event; }
 

@@ -44,6 +44,20 @@ struct RenderSettings {
   EmbreeIsa isa = EmbreeIsa::kAvx2;
   bool progress = true;      // progress bar on stderr (only when stderr is a terminal)
   ProgressSink on_progress;  // told the samples done and left (Progress), with or without a bar
+  // Adaptive sampling (docs/sampling.md, "Adaptive sampling"): 0 = off; else the relative standard
+  // error each pixel's mean should reach in every channel of noise_channels (every band channel if
+  // empty). Every pixel takes pilot_spp samples (even, ≥ 4), then as many more as its estimated
+  // error asks, up to spp. Renders in passes (progressive).
+  float noise_threshold = 0;
+  std::vector<std::string> noise_channels;
+  int pilot_spp = 16;
+  // Render in passes of doubling sample counts, every pixel reaching one count before any goes on to
+  // the next, so a render stopped early (a time limit) has its samples spread over the whole image.
+  // The same bits as one pass: each pixel's samples are still added in index order.
+  bool progressive = false;
+  // Stop after this many seconds of rendering (0 = none): RenderSession ends the render there as
+  // complete, each pixel with the samples it has; implies progressive.
+  double time_limit_s = 0;
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;
 };
@@ -144,13 +158,31 @@ class Renderer {
   Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const EmbreeScene* shared, RenderSettings settings,
            const TransportFaults& faults);
   void check_film(const Film& film) const;
-  void render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample, uint64_t& rays) const;
-  // One path's radiance and first hit, weighted into the channels and added to pixel (x, y).
-  void add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L, const FirstHit& first,
-                  const Vec3& camera_direction) const;
+  // Renders samples [first, end) of pixel (x, y): of its one sequence (stream kAllSamples: sample
+  // index = position in the sequence) or of adaptive sampling's stream 0 or 1 (sample j of the stream).
+  static constexpr int kAllSamples = -1;
+  void render_pixel(Film& film, int x, int y, int stream, uint32_t first, uint32_t end, uint64_t& rays) const;
+  // One path's radiance and first hit, weighted into the channels and added to pixel (x, y): sample
+  // `index` of `stream`.
+  void add_sample(Film& film, int x, int y, int stream, uint32_t index, const SampledWavelengths& wl,
+                  SampledSpectrum L, const FirstHit& first, const Vec3& camera_direction) const;
   // The feature values of one sample (settings.features) after its band and albedo values.
-  void feature_values(const Film& film, int x, int y, const FirstHit& first, const Vec3& camera_direction,
-                      float* values) const;
+  void feature_values(const FirstHit& first, const Vec3& camera_direction, float* features) const;
+  // Adaptive sampling (settings.noise_threshold > 0; renderer_adaptive.cpp).
+  bool adaptive() const { return settings_.noise_threshold > 0; }
+  // The film holds each band channel's sum over the even samples (stream 0 when adaptive).
+  bool has_even_channels() const { return settings_.features || adaptive(); }
+  bool progressive() const { return settings_.progressive || settings_.time_limit_s > 0; }
+  int even_channel(size_t c) const { return static_cast<int>(2 * channels_.size() + c); }
+  // Stream 0's sample count of pixel (x, y), and the samples stream `stream` should reach: decided
+  // from the other stream's pilot samples alone (docs/sampling.md).
+  uint32_t stream0_count(const Film& film, int x, int y) const;
+  uint32_t stream_target(const Film& film, int x, int y, int stream) const;
+  // The pixel mean of band channel c, and its variance: (mean₀ + mean₁)/2 of the two streams when
+  // adaptive, else the mean over all samples.
+  double channel_mean(const Film& film, int x, int y, int c) const;
+  double channel_variance_of_mean(const Film& film, int x, int y, int c) const;
+  RenderStats render_passes(Film& film, const PixelRegion& region, SampleRange samples);
   // make_image's feature channels of pixel (x, y), from channel `first_channel` of the image on.
   void write_features(Image& image, const Film& film, int x, int y, int first_channel) const;
 
@@ -174,6 +206,13 @@ class Renderer {
   // integral is 0, which normalises the albedo AOV) and whether it is not 0.
   std::vector<Vec4> scale_blocks_, albedo_norm_blocks_;
   std::vector<glm::bvec4> has_albedo_blocks_;
+  // Adaptive sampling's film channels after the others: stream 0's sample count, then per noise
+  // channel its sums over the pilot samples of stream 0 and of both streams. noise_channels_: the
+  // band channels the threshold applies to; noise_floor_: the squared radiance (or reflectance)
+  // below which a pixel's error counts as absolute, 1 % of a white Lambertian's.
+  int adaptive_base_ = 0;
+  std::vector<int> noise_channels_;
+  std::vector<double> noise_floor_;
 };
 
 }  // namespace sylva
