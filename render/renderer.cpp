@@ -30,10 +30,12 @@ static_assert(static_cast<int>(FeatureClass::kLeaf) == 1 && static_cast<int>(Fea
 // The film's channels: each band channel's radiance and albedo; each one's even-sample sum (with the
 // features or adaptive sampling); the features; adaptive sampling's stream count and two pilot sums
 // per noise channel (Renderer::adaptive_base_).
+int adaptive_base(size_t band_channels, bool features) {
+  return static_cast<int>(3 * band_channels + (features ? kFeatureSlots : 0));
+}
 int film_channels(size_t band_channels, bool features, size_t noise_channels) {
-  const bool adaptive = noise_channels > 0;
-  return static_cast<int>(2 * band_channels + (features || adaptive ? band_channels : 0) +
-                          (features ? kFeatureSlots : 0) + (adaptive ? 1 + 2 * noise_channels : 0));
+  if (noise_channels > 0) return adaptive_base(band_channels, features) + 1 + 2 * static_cast<int>(noise_channels);
+  return static_cast<int>(2 * band_channels + (features ? band_channels + kFeatureSlots : 0));
 }
 
 // The band channels adaptive sampling watches: `names` (every channel if empty), as indices.
@@ -92,7 +94,7 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
       const double white = channels_.irradiance[static_cast<size_t>(c)] / kPi * channels_.scale[static_cast<size_t>(c)];
       noise_floor_.push_back(white > 0 ? sqr(0.01 * white) : 1e-20);
     }
-    adaptive_base_ = sylva::film_channels(channels_.size(), settings_.features, 0);
+    adaptive_base_ = adaptive_base(channels_.size(), settings_.features);
   }
   const std::vector<const DenseSpectrum*>& weights = channels_.weights;
   channel_blocks_ = (weights.size() + 3) / 4;

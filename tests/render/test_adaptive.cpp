@@ -3,11 +3,13 @@
 // same bits at any thread count, split by tiles, interrupted and resumed; sample splits and bad
 // settings are refused; a time limit ends the render with samples over the whole image.
 
+#include "core/error.h"
 #include "render/session.h"
 #include "tests/render/render_test_scenes.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <thread>
@@ -40,24 +42,30 @@ double image_mean(const Image& image, int c) {
 
 TEST(Adaptive, CountsFollowTheRuleAndSpreadOverTheImage) {
   const Scene scene = test::small_forest_scene();
-  Renderer renderer(scene, adaptive_settings(256, 0.05f));
+  Renderer renderer(scene, adaptive_settings(256, 0.1f));
   Film film = renderer.make_film();
   renderer.render(film);
   const Image image = renderer.make_image(film);
   const int spp = channel(image, "spp");
-  int at_pilot = 0, above = 0;
+  int below = 0, above = 0;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
       const auto n = static_cast<uint32_t>(image.at(x, y, spp));
       EXPECT_EQ(n, film.count(x, y));
       EXPECT_GE(n, 8u);
       EXPECT_LE(n, 256u);
-      at_pilot += n == 8;
-      above += n > 64;
+      below += n < 32;
+      above += n > 128;
     }
-  // The sky is noiseless (the pilot is enough); the crowns' edges and shadows ask for more.
-  EXPECT_GT(at_pilot, 0);
-  EXPECT_GT(above, 0);
+  // The lit ground converges early; the crowns' edges and shadows ask for more.
+  std::vector<uint32_t> counts;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) counts.push_back(film.count(x, y));
+  std::sort(counts.begin(), counts.end());
+  const std::string spread = "counts from " + std::to_string(counts.front()) + " (median " +
+                             std::to_string(counts[counts.size() / 2]) + ") to " + std::to_string(counts.back());
+  EXPECT_GT(below, 0) << spread;
+  EXPECT_GT(above, 0) << spread;
 }
 
 // The mean over many seeds of adaptive renders equals a uniform reference: over the whole image and
@@ -162,16 +170,16 @@ TEST(Adaptive, BadSettingsAreRefused) {
   const Scene scene = test::small_forest_scene();
   RenderSettings s = adaptive_settings(64, 0.05f);
   s.noise_channels = {"Q"};
-  EXPECT_THROW(Renderer(scene, s), Error);
+  EXPECT_THROW(Renderer renderer(scene, s), Error);
   s.noise_channels = {"R", "nir.Y"};
-  EXPECT_NO_THROW(Renderer(scene, s));
+  EXPECT_NO_THROW(Renderer renderer(scene, s));
   s.pilot_spp = 7;
-  EXPECT_THROW(Renderer(scene, s), Error);
+  EXPECT_THROW(Renderer renderer(scene, s), Error);
   s.pilot_spp = 128;  // more than spp
-  EXPECT_THROW(Renderer(scene, s), Error);
+  EXPECT_THROW(Renderer renderer(scene, s), Error);
   s.pilot_spp = 8;
   s.noise_threshold = 1.5f;
-  EXPECT_THROW(Renderer(scene, s), Error);
+  EXPECT_THROW(Renderer renderer(scene, s), Error);
 }
 
 TEST(Progressive, SameBitsAsOnePass) {
