@@ -85,8 +85,8 @@ class PathSampler {
  private:
   uint32_t dimension_seed(SampleDim dim) const {
     return static_cast<uint32_t>(
-        mix64(pixel_seed_ ^ (static_cast<uint64_t>(event_) * static_cast<uint64_t>(SampleDim::kCount) +
-                             static_cast<uint64_t>(dim))));
+        mix64(pixel_seed_ ^
+              (static_cast<uint64_t>(event_) * static_cast<uint64_t>(SampleDim::kCount) + static_cast<uint64_t>(dim))));
   }
 
   SamplerKind kind_ = SamplerKind::kIndependent;

@@ -140,7 +140,7 @@ struct PathState {
   uint32_t from = kNoInstance;  // the instance whose surface `ray` leaves (EmbreeScene::intersect)
   SampledWavelengths wl;
   PathSampler* sampler = nullptr;  // the path's random numbers (events from 1 on: advance())
-  FirstHit* first = nullptr;  // optional
+  FirstHit* first = nullptr;       // optional
   SampledSpectrum L{0.0f}, beta{1.0f};
   // With haze: the path's free-flight density per carried wavelength over the hero's (Haze::sample_scattering).
   SampledSpectrum haze_ratio{1.0f};

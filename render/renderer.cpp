@@ -82,7 +82,8 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
   if (settings_.integrator.max_depth < 1) throw Error("maximum depth must be at least 1");
   if (band_channel_count(settings_.bands) > 64) throw Error("too many band channels (at most 64)");
   if (!(settings_.noise_threshold >= 0 && settings_.noise_threshold < 1))
-    throw Error(fmt::format("noise threshold {} is not in [0, 1) (a relative error, e.g. 0.02)", settings_.noise_threshold));
+    throw Error(
+        fmt::format("noise threshold {} is not in [0, 1) (a relative error, e.g. 0.02)", settings_.noise_threshold));
   if (adaptive() && (settings_.pilot_spp < 4 || settings_.pilot_spp % 2 != 0 || settings_.pilot_spp > settings_.spp))
     throw Error(fmt::format("pilot samples per pixel must be even, at least 4 and at most spp ({}); got {}",
                             settings_.spp, settings_.pilot_spp));
@@ -135,9 +136,11 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
   }
   const uint64_t copies = scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);
   MemoryEstimate m;
-  const size_t noise = settings.noise_threshold > 0 ? (settings.noise_channels.empty() ? channels : settings.noise_channels.size()) : 0;
-  m.film_bytes = pixels * (static_cast<uint64_t>(film_channels(channels, settings.features, noise)) * 2 * sizeof(double) +
-                           sizeof(uint32_t));
+  const size_t noise =
+      settings.noise_threshold > 0 ? (settings.noise_channels.empty() ? channels : settings.noise_channels.size()) : 0;
+  m.film_bytes =
+      pixels * (static_cast<uint64_t>(film_channels(channels, settings.features, noise)) * 2 * sizeof(double) +
+                sizeof(uint32_t));
   m.image_bytes = pixels * ((3 * channels + 8) * sizeof(float) + 3 * sizeof(float) + 3);
   m.bvh_bytes = primitives * kBvhBytesPerPrimitive + curves * kBvhBytesPerCurve +
                 copies * (uses_instance_array(scene) ? kArrayInstanceBytes : kNativeInstanceBytes);
@@ -159,8 +162,7 @@ void Renderer::check_film(const Film& film) const {
     throw Error("film does not match the render settings");
 }
 
-void Renderer::render_pixel(Film& film, int x, int y, int stream, uint32_t first, uint32_t end,
-                            uint64_t& rays) const {
+void Renderer::render_pixel(Film& film, int x, int y, int stream, uint32_t first, uint32_t end, uint64_t& rays) const {
   const uint64_t pixel_id =
       static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
   // The pixel's paths a batch at a time (Integrator::trace_paths): a pixel's camera rays and first
@@ -180,7 +182,8 @@ void Renderer::render_pixel(Film& film, int x, int y, int stream, uint32_t first
       if (stream == kAllSamples)
         sampler.start(settings_.sampler, rngs[k], settings_.seed, pixel_id, index);
       else
-        sampler.start_stream(settings_.sampler, rngs[k], settings_.seed, pixel_id, static_cast<uint32_t>(stream), index);
+        sampler.start_stream(settings_.sampler, rngs[k], settings_.seed, pixel_id, static_cast<uint32_t>(stream),
+                             index);
       const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + sampler.get2d(SampleDim::kPixel);
       const Vec2 lens = sampler.get2d(SampleDim::kLens);
       const SampledWavelengths wl = wavelengths_.sample(sampler.get1d(SampleDim::kWavelength));

@@ -164,8 +164,8 @@ class Renderer {
   void render_pixel(Film& film, int x, int y, int stream, uint32_t first, uint32_t end, uint64_t& rays) const;
   // One path's radiance and first hit, weighted into the channels and added to pixel (x, y): sample
   // `index` of `stream`.
-  void add_sample(Film& film, int x, int y, int stream, uint32_t index, const SampledWavelengths& wl,
-                  SampledSpectrum L, const FirstHit& first, const Vec3& camera_direction) const;
+  void add_sample(Film& film, int x, int y, int stream, uint32_t index, const SampledWavelengths& wl, SampledSpectrum L,
+                  const FirstHit& first, const Vec3& camera_direction) const;
   // The feature values of one sample (settings.features) after its band and albedo values.
   void feature_values(const FirstHit& first, const Vec3& camera_direction, float* features) const;
   // Adaptive sampling (settings.noise_threshold > 0; renderer_adaptive.cpp).

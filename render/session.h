@@ -72,10 +72,10 @@ struct SessionOptions {
 
 struct SessionResult {
   Film film;
-  RenderStats stats;         // summed over the rounds of this run (seconds: rendering only)
-  bool interrupted = false;  // stopped by `interrupt` before the film was complete (checkpointed)
+  RenderStats stats;          // summed over the rounds of this run (seconds: rendering only)
+  bool interrupted = false;   // stopped by `interrupt` before the film was complete (checkpointed)
   bool time_limited = false;  // stopped by settings.time_limit_s: the film is the render's result
-  int checkpoints = 0;       // checkpoints written
+  int checkpoints = 0;        // checkpoints written
 };
 
 // The checkpoint of a render writing `output`: beside it, "<output name>.checkpoint". A name that

@@ -165,7 +165,8 @@ TEST(Sobol, UnbiasedAndConvergesFasterThanIndependent) {
     std::function<double(Vec2)> f;
     double exact, min_rate;  // the RMSE's decay exponent must exceed min_rate (independent: 0.5)
   };
-  const Case cases[] = {{"edge", edge, 0.5, 0.65}, {"sun behind an edge", sun_behind_edge, kSunVisible, 0.65},
+  const Case cases[] = {{"edge", edge, 0.5, 0.65},
+                        {"sun behind an edge", sun_behind_edge, kSunVisible, 0.65},
                         {"smooth", smooth, kSmoothExact, 1.2}};
   for (const Case& c : cases) {
     const Convergence low = estimate(SamplerKind::kSobol, 16, 512, c.f, c.exact);

@@ -94,8 +94,7 @@ TEST(Adaptive, UnbiasedAgainstUniformSampling) {
       const Image image = renderer.make_image(film);
       if (stops_early.empty())
         for (int y = 0; y < image.height; ++y)
-          for (int x = 0; x < image.width; ++x)
-            stops_early.push_back(film.count(x, y) > 8 && film.count(x, y) < 128);
+          for (int x = 0; x < image.width; ++x) stops_early.push_back(film.count(x, y) > 8 && film.count(x, y) < 128);
       whole.push_back(image_mean(image, c));
       double sum = 0;
       size_t n = 0, i = 0;
@@ -160,7 +159,8 @@ TEST(Adaptive, SameBitsAtAnyThreadCountSplitByTilesAndResumed) {
   stopper.join();
   cancel = false;
   stoppable.render(resumed);
-  EXPECT_EQ(test::film_bytes(resumed), expected_bytes) << "resumed (first part interrupted: " << first.interrupted << ")";
+  EXPECT_EQ(test::film_bytes(resumed), expected_bytes)
+      << "resumed (first part interrupted: " << first.interrupted << ")";
   // Sample splits are refused.
   Film chunk = two.make_film(two.image_region(), 16);
   EXPECT_THROW(two.render(chunk, two.image_region(), SampleRange{16, 64}), Error);

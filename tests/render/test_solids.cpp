@@ -225,8 +225,8 @@ void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& ori
   // More paths than the batch holds: an error, not an overflow.
   Pcg32 rng(5);
   PathSampler path_sampler(rng);
-  std::vector<PathState> too_many(
-      Integrator::kMaxPaths + 1, PathState(Ray{origins[0], Vec3(0, 0, -1)}, sampler.sample(0.5f), path_sampler, nullptr));
+  std::vector<PathState> too_many(Integrator::kMaxPaths + 1, PathState(Ray{origins[0], Vec3(0, 0, -1)},
+                                                                       sampler.sample(0.5f), path_sampler, nullptr));
   uint64_t rays = 0;
   EXPECT_THROW(integrator.trace_paths(too_many, rays), Error);
 }
