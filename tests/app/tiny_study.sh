@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Writes a tiny detection study into folder $1 (study.toml over scene.toml: a vehicle on a plane,
 # 6 frames of a Latin hypercube over range, aspect and sun elevation at 32 x 24, 2 spp); sourced by
 # the MPI and Slurm study tests.
