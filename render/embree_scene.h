@@ -130,7 +130,6 @@ class EmbreeScene {
 
   void add_native_instances(const Scene& scene, int copies);
   void add_instance_array(const Scene& scene, int copies);
-  void set_up_copies(const Scene& scene);
   void add_sweep(const Scene& scene, int copies);
   bool intersect_cell(const Ray& ray, RayHit* hit, uint32_t from) const;
   bool occluded_cell(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from) const;
