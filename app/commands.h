@@ -48,5 +48,6 @@ CommandRun add_denoise_command(CLI::App& parent);
 CommandRun add_grow_command(CLI::App& parent);
 CommandRun add_bands_command(CLI::App& parent);
 CommandRun add_measure_command(CLI::App& parent);
+CommandRun add_study_command(CLI::App& parent);
 
 }  // namespace sylva

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   add(sylva::add_golden_command(app));
   add(sylva::add_bands_command(app));
   add(sylva::add_measure_command(app));
+  add(sylva::add_study_command(app));
 
   try {
     app.parse(argc, argv);

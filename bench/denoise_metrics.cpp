@@ -1,6 +1,8 @@
-// sylva_denoise_metrics REF.exr GROUPS NAME=IMAGE.exr ...: the relative mean squared error of each
-// image against a reference, minus the reference's own noise, overall and per group of `id.class`
-// values (bench/README.md, "Denoised stills"). GROUPS: "crowns=4,5;grass=2;sky=0".
+// sylva_denoise_metrics [--rows FIRST:END] REF.exr GROUPS NAME=IMAGE.exr ...: the relative mean
+// squared error of each image against a reference, minus the reference's own noise, overall and per
+// group of `id.class` values (bench/README.md, "Denoised stills"). GROUPS: "crowns=4,5;grass=2;sky=0".
+// --rows: only rows FIRST to END-1 count (a reference rendered as one band of rows, a tile chunk
+// merged with --partial).
 //
 // relMSE = mean over pixels and beauty channels of ((x − r)² − Var(r)) / (r² + ε_c), Var(r) the
 // reference's var.<C>, ε_c = 10⁻² · (the reference's image mean of C)²; the groups by the
@@ -46,11 +48,22 @@ std::map<std::string, std::vector<int>> parse_groups(const std::string& text) {
 }
 
 int run(int argc, char** argv) {
+  int y0 = 0, y1 = -1;
+  if (argc > 2 && std::string(argv[1]) == "--rows") {
+    const std::string rows = argv[2];
+    y0 = std::stoi(rows.substr(0, rows.find(':')));
+    y1 = std::stoi(rows.substr(rows.find(':') + 1));
+    argc -= 2;
+    argv += 2;
+  }
   if (argc < 4) {
-    std::fprintf(stderr, "usage: sylva_denoise_metrics REF.exr GROUPS NAME=IMAGE.exr ...\n");
+    std::fprintf(stderr, "usage: sylva_denoise_metrics [--rows FIRST:END] REF.exr GROUPS NAME=IMAGE.exr ...\n");
     return 2;
   }
   const Image ref = sylva::read_exr(argv[1]);
+  if (y1 < 0) y1 = ref.height;
+  if (y0 < 0 || y0 >= y1 || y1 > ref.height) throw sylva::Error("--rows: not inside the reference");
+  const double pixel_count = static_cast<double>(ref.width) * (y1 - y0);
   const auto groups = parse_groups(argv[2]);
   const int cls = ref.find_channel("id.class");
   if (cls < 0) throw sylva::Error("the reference has no id.class");
@@ -60,9 +73,9 @@ int run(int argc, char** argv) {
   std::vector<double> eps;
   for (const int c : channels) {
     double m = 0;
-    for (int y = 0; y < ref.height; ++y)
+    for (int y = y0; y < y1; ++y)
       for (int x = 0; x < ref.width; ++x) m += ref.at(x, y, c);
-    m /= static_cast<double>(ref.width) * ref.height;
+    m /= pixel_count;
     eps.push_back(1e-2 * m * m);
   }
   std::string header = "image\tall";
@@ -79,7 +92,7 @@ int run(int argc, char** argv) {
       const std::string& name = ref.channels[channels[k]];
       const int ic = im.find_channel(name), rv = ref.find_channel("var." + name);
       if (ic < 0 || rv < 0) throw sylva::Error(arg + ": no " + name + " or var." + name);
-      for (int y = 0; y < ref.height; ++y)
+      for (int y = y0; y < y1; ++y)
         for (int x = 0; x < ref.width; ++x) {
           const double r = ref.at(x, y, channels[k]), d = im.at(x, y, ic) - r;
           const double e = (d * d - ref.at(x, y, rv)) / (r * r + eps[k]);
@@ -105,12 +118,12 @@ int run(int argc, char** argv) {
   // The pixel share of each group.
   std::string shares = "pixels\t1";
   std::map<int, double> pixels;
-  for (int y = 0; y < ref.height; ++y)
+  for (int y = y0; y < y1; ++y)
     for (int x = 0; x < ref.width; ++x) pixels[static_cast<int>(ref.at(x, y, cls))] += 1;
   for (const auto& [name, ids] : groups) {
     double n = 0;
     for (const int id : ids) n += pixels.count(id) ? pixels[id] : 0;
-    shares += fmt::format("\t{:.3f}", n / (static_cast<double>(ref.width) * ref.height));
+    shares += fmt::format("\t{:.3f}", n / pixel_count);
   }
   std::printf("%s\n", shares.c_str());
   return 0;

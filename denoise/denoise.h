@@ -42,9 +42,9 @@ struct DenoiseSettings {
   int threads = 0;  // 0: all hardware threads
   // The candidates' window radii, increasing (pixels): each gives a zeroth- and a first-order
   // estimate, beside the unfiltered half-buffer.
-  std::vector<int> radii{2, 4, 7};
-  float color_k = 1.0f;        // the colour weights' bandwidth, in noise standard deviations
-  float feature_scale = 1.0f;  // multiplies every feature bandwidth
+  std::vector<int> radii{2, 5, 9};
+  float color_k = 1.5f;        // the colour weights' bandwidth, in noise standard deviations
+  float feature_scale = 2.0f;  // multiplies every feature bandwidth
   float ridge = 0.01f;         // regularisation of the first-order coefficients
   int selection_radius = 3;    // the error estimates are averaged over (2r + 1)² pixels
 };

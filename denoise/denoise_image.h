@@ -12,7 +12,7 @@
 namespace sylva {
 
 // What the header records of a denoised image (attribute "sylva:denoised").
-inline constexpr const char* kDenoiserName = "sylva-nfor 1 (docs/denoise.md)";
+inline constexpr const char* kDenoiserName = "sylva-nfor 2 (docs/denoise.md)";
 
 // The beauty channels of `image` that can be denoised: every C with even.<C>, odd.<C> and var.<C>.
 std::vector<std::string> denoisable_channels(const Image& image);

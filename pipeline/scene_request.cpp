@@ -72,6 +72,7 @@ RenderJob prepare_render(const RenderRequest& request) {
   SceneOptions scene_options;
   scene_options.time_s = request.time_s;
   scene_options.overrides = request.overrides;
+  scene_options.tree_memo = request.tree_memo;
   if (!request.res.empty()) scene_options.resolution = parse_resolution(request.res);
   RenderJob job{load_scene(request.source, scene_options), {}};
   // The scene file's settings, with the command line's overrides on top.

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -48,6 +49,8 @@ struct RenderRequest {
   std::optional<double> time_s;  // wind time of every tree (SceneOptions::time_s)
   // `section.key=value` overrides of the scene's TOML (--set; SceneOptions::overrides).
   std::vector<std::string> overrides;
+  // Trees made by earlier renders of this process (a study's frames; SceneOptions::tree_memo).
+  std::shared_ptr<TreeMemo> tree_memo;
 };
 
 struct RenderJob {

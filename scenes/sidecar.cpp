@@ -15,9 +15,6 @@
 
 namespace sylva {
 
-namespace {
-
-// A JSON string literal: quotes, backslash and control characters escaped (RFC 8259 §7).
 std::string json_string(std::string_view s) {
   std::string out = "\"";
   for (const char ch : s) {
@@ -33,6 +30,8 @@ std::string json_string(std::string_view s) {
   }
   return out + "\"";
 }
+
+namespace {
 
 // A finite number in the shortest form that reads back exactly; JSON has no NaN or infinity, so
 // those are written as null.

@@ -11,8 +11,12 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace sylva {
+
+// A JSON string literal: quotes, backslash and control characters escaped (RFC 8259 §7).
+std::string json_string(std::string_view s);
 
 // OUT.exr → OUT.json (the extension replaced).
 std::filesystem::path sidecar_path(const std::filesystem::path& exr);

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 
+#include <fmt/core.h>
+
 namespace sylva {
 
 GeneratedTree generate_tree(const Species& species, uint64_t seed, const TreeOptions& options, bool with_leaves) {
@@ -21,6 +23,38 @@ GeneratedTree generate_tree(const Species& species, uint64_t seed, const TreeOpt
     out.error = e.what();
   }
   return out;
+}
+
+std::string TreeMemo::key(const std::string& species_file, uint64_t seed, const TreeOptions& options,
+                          bool with_leaves) {
+  return fmt::format("{}|{}|{}|{}|{}|{}|{}|{}", species_file, seed, options.quality, options.time_s, options.wind_speed,
+                     options.wind_gust, options.years, with_leaves);
+}
+
+std::optional<GeneratedTree> TreeMemo::find(const std::string& key) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = trees_.find(key);
+  if (it == trees_.end()) return std::nullopt;
+  it->second.scene = scene_;
+  ++reused_;
+  return it->second.tree;
+}
+
+void TreeMemo::remember(const std::string& key, const GeneratedTree& tree) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  trees_.insert_or_assign(key, Entry{tree, scene_});
+  ++generated_;
+}
+
+void TreeMemo::next_scene() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  std::erase_if(trees_, [&](const auto& entry) { return entry.second.scene < scene_; });
+  ++scene_;
+}
+
+size_t TreeMemo::size() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return trees_.size();
 }
 
 // What make_tree_lod reads of a generated tree: the model, the leaf quads and the mesh options

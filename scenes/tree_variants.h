@@ -9,6 +9,9 @@
 #include "scenes/species.h"
 
 #include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +27,35 @@ struct GeneratedTree {
 };
 // Never throws: a generator's Error becomes `error`.
 GeneratedTree generate_tree(const Species& species, uint64_t seed, const TreeOptions& options, bool with_leaves);
+
+// Trees generated for earlier scenes of one process — the frames of a study (pipeline/study.h) —
+// kept to be copied into later scenes instead of generated again. Generation is a pure function
+// of (species file, seed, options, leaves), so a scene is the same bits with or without it; the
+// species files are assumed unchanged while it lives. Memory stays bounded: next_scene() forgets
+// every tree the previous scene did not use. Thread-safe.
+class TreeMemo {
+ public:
+  // The key of generate_tree's inputs (the species by its file).
+  static std::string key(const std::string& species_file, uint64_t seed, const TreeOptions& options, bool with_leaves);
+  // A copy of the tree remembered under `key`, if any (and marks it used by this scene).
+  std::optional<GeneratedTree> find(const std::string& key);
+  void remember(const std::string& key, const GeneratedTree& tree);
+  // Starts the next scene: trees neither found nor remembered since the last call are dropped.
+  void next_scene();
+  size_t size() const;
+  uint64_t generated() const { return generated_; }  // trees remembered so far
+  uint64_t reused() const { return reused_; }        // trees found so far
+
+ private:
+  struct Entry {
+    GeneratedTree tree;
+    uint64_t scene = 0;  // the last scene that used it
+  };
+  mutable std::mutex mutex_;
+  std::map<std::string, Entry> trees_;
+  uint64_t scene_ = 0;
+  uint64_t generated_ = 0, reused_ = 0;
+};
 
 // What make_tree_lod reads of a generated tree: the model, the leaf quads and the mesh options
 // (not the bark tubes, which it meshes again from the model).

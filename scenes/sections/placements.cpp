@@ -127,7 +127,7 @@ std::vector<uint32_t> add_variants(const std::vector<Kind>& kinds, const Rows& r
   }
   for (const TreeVariantSpec& s : specs)
     if (!cache.has(s.key)) fresh.push_back(&s);
-  std::vector<GeneratedTree> generated = TreeVariantCache::generate(fresh);
+  std::vector<GeneratedTree> generated = cache.generate(fresh);
   std::vector<uint32_t> ids;
   size_t next = 0;
   for (size_t v = 0; v < specs.size(); ++v) {

@@ -51,11 +51,20 @@ std::vector<uint32_t> tree_materials(const Params& t, const Species& species, bo
   return out;
 }
 
-std::vector<GeneratedTree> TreeVariantCache::generate(const std::vector<const TreeVariantSpec*>& specs) {
+std::vector<GeneratedTree> TreeVariantCache::generate(const std::vector<const TreeVariantSpec*>& specs) const {
   std::vector<GeneratedTree> trees(specs.size());
+  TreeMemo* memo = b_.options().tree_memo.get();
   tbb::parallel_for(size_t{0}, specs.size(), [&](size_t i) {
     const TreeVariantSpec& s = *specs[i];
+    const std::string key = memo ? TreeMemo::key(s.file.string(), s.seed, s.options, s.with_leaves) : std::string();
+    if (memo) {
+      if (std::optional<GeneratedTree> known = memo->find(key)) {
+        trees[i] = std::move(*known);
+        return;
+      }
+    }
     trees[i] = generate_tree(*s.species, s.seed, s.options, s.with_leaves);
+    if (memo && trees[i].error.empty()) memo->remember(key, trees[i]);
   });
   return trees;
 }

@@ -49,8 +49,9 @@ class TreeVariantCache {
 
   bool has(const std::string& key) const { return entries_.count(key) > 0; }
 
-  // The trees of `specs`, generated in parallel (a generator's failure is the tree's `error`).
-  static std::vector<GeneratedTree> generate(const std::vector<const TreeVariantSpec*>& specs);
+  // The trees of `specs`, generated in parallel (a generator's failure is the tree's `error`), or
+  // copied from the scene options' TreeMemo when an earlier scene made them.
+  std::vector<GeneratedTree> generate(const std::vector<const TreeVariantSpec*>& specs) const;
 
   // Adds a variant made from `tree` (consumed) unless its key is cached: its full prototypes now,
   // or with `defer_full` (under [lod]) only when a copy first draws the full level.

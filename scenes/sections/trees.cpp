@@ -126,7 +126,7 @@ void parse_trees(const Params& root, SceneBuilder& b) {
     const TreeVariantSpec spec = read_tree(*t, species, file, seed, options, with_leaves, b);
     TreeVariantCache& cache = b.tree_variants();
     if (!cache.has(spec.key)) {
-      std::vector<GeneratedTree> tree = TreeVariantCache::generate({&spec});
+      std::vector<GeneratedTree> tree = cache.generate({&spec});
       if (!tree[0].error.empty()) t->fail(file.string() + ": " + tree[0].error);
       cache.add(spec, tree[0], false);
     }

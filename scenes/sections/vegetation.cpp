@@ -68,7 +68,7 @@ SpeciesPlacement read_entry(const Params& e, SceneBuilder& b, Entries& out) {
 std::vector<uint32_t> add_variants(Entries& entries, SceneBuilder& b) {
   std::vector<const TreeVariantSpec*> specs;
   for (const TreeVariantSpec& s : entries.variants) specs.push_back(&s);
-  std::vector<GeneratedTree> trees = TreeVariantCache::generate(specs);
+  std::vector<GeneratedTree> trees = b.tree_variants().generate(specs);
   for (const Species* species : entries.species) entries.class_ids.push_back(b.class_of(species->name));
   std::vector<uint32_t> ids;
   entries.variant_index.resize(entries.rules.size());
