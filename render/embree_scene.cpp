@@ -303,8 +303,7 @@ struct EmbreeScene::Impl {
   // sweep read it).
   std::vector<Bounds3> prototype_bounds;
   InstanceArray array;
-  // A scene of few copies (uses_instance_sweep): traced by the sweep, not through `top` (which is
-  // still built, for the scene's bounds).
+  // A scene of few copies (uses_instance_sweep): traced by the sweep, not through `top` (left empty).
   InstanceSweep sweep;
   bool sweeping = false;
   // Cyclic plot: the cell [lo, hi] (x, y), its period, and the heights outside which no geometry lies.
@@ -402,13 +401,13 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     }
   }
   stats_.instance_array = uses_instance_array(scene);
-  if (stats_.instance_array) {
+  stats_.instance_sweep = !stats_.instance_array && uses_instance_sweep(scene) && n_instances > 0;
+  if (stats_.instance_array)
     add_instance_array(scene, copies);
-  } else {
+  else if (stats_.instance_sweep)
+    add_sweep(scene, copies);
+  else
     add_native_instances(scene, copies);
-    stats_.instance_sweep = uses_instance_sweep(scene) && n_instances > 0;
-    if (stats_.instance_sweep) add_sweep(scene, copies);
-  }
   stats_.instances = n_instances;
   rtcCommitScene(impl_->top);
   check(device, "building the instance BVH");

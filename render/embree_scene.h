@@ -116,7 +116,9 @@ class EmbreeScene {
   bool occluded(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from = kNoInstance) const;
 
   const EmbreeStats& stats() const { return stats_; }
-  // World bounds of all geometry (one period of a cyclic plot: the unshifted instances).
+  // World bounds of all geometry (one period of a cyclic plot: the unshifted instances): the union
+  // of every instance's prototype_bounds (render/primitives/primitive.h) through its transform,
+  // padded by a few ulps, the boxes the label sidecar reports per object.
   const Bounds3& bounds() const { return bounds_; }
   // The scene the BVHs were built from.
   const Scene& scene() const { return *scene_; }

@@ -51,8 +51,8 @@ Vec3 FlatWriter::world_normal(const Vec3& n) const {
 void FlatWriter::add_mesh(const TriangleMesh& mesh, uint32_t material) {
   const uint32_t base = next_vertex();
   for (size_t i = 0; i < mesh.positions.size(); ++i)
-    add_vertex(mesh.positions[i], mesh.normals.empty() || flat_ == nullptr ? Vec3(0.0f, 0.0f, 1.0f)
-                                                                            : world_normal(mesh.normals[i]));
+    add_vertex(mesh.positions[i],
+               mesh.normals.empty() || flat_ == nullptr ? Vec3(0.0f, 0.0f, 1.0f) : world_normal(mesh.normals[i]));
   for (const glm::uvec3& t : mesh.triangles) add_triangle(t + glm::uvec3(base));
   close_part({material, std::nullopt});
 }

@@ -38,10 +38,15 @@ std::vector<std::pair<std::string, Prototype>> one_of_each_kind() {
   Prototype mesh;
   mesh.triangles = make_sphere(1.5f);
   kinds.emplace_back("triangles", std::move(mesh));
+  // A cut-out leaf (its hits lie inside its quad) and an uncut one beside it (whose hits reach the
+  // corners' box, so that the box's tightness is tested).
   Prototype leaves;
   for (const Vec3& c : {Vec3(0, 0, 0), Vec3(1, 0, 0.5f), Vec3(1, 1, 1), Vec3(0, 1, 0.2f)})
     leaves.leaves.corners.push_back(c);
   leaves.leaves.shapes.push_back(LeafShape::Oval);
+  for (const Vec3& c : {Vec3(0.5f, 0, 0), Vec3(1.5f, 0, 0.5f), Vec3(1.5f, 1, 1), Vec3(0.5f, 1, 0.2f)})
+    leaves.leaves.corners.push_back(c);
+  leaves.leaves.shapes.push_back(LeafShape::Rectangle);
   kinds.emplace_back("leaf quads", std::move(leaves));
   Prototype solid;
   solid.solids.push_back(cube());
