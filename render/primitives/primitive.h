@@ -4,8 +4,8 @@
 // decoding: triangles.h (meshes), leaf_quads.h, solids.h (half-space solids), media.h (the turbid
 // crowns among them), curves.h and discs.h. This header names the kinds and gathers what every
 // stage asks of all of them: validation and bounds. Adding a kind: its file, a row here, a case in
-// primitive.cpp, flat_writer.cpp (flatten_prototype), embree_geometry.cpp (attach_prototype) and
-// Integrator::interaction.
+// primitive.cpp, flat_writer.cpp (flatten_prototype), embree_geometry.cpp (attach_prototype),
+// EmbreeScene::intersect_cell and Integrator::interaction.
 
 #include "render/scene.h"
 
