@@ -81,7 +81,7 @@ CommandRun add_render_command(CLI::App& parent) {
       ->check(kFiniteNumber & CLI::Range(1e-6, 1e6));
   cmd->add_flag("--no-memory-check", opt->no_memory_check,
                 "Render even when the estimated memory (film, image, BVH) exceeds what is available");
-  cmd->add_flag("-q,--quiet", opt->quiet, "No progress bar or summary");
+  cmd->add_flag("-q,--quiet", opt->quiet, "No progress (bar or log lines) or summary");
   return [opt] { return run_render(*opt); };
 }
 

@@ -80,7 +80,7 @@ struct RenderCallOptions {
   std::filesystem::path png;  // empty: the scene's [output] png (never for a chunk)
   bool require_exr = false;   // an error when no EXR is named at all (the CLI's case)
   PreviewOverrides preview;   // the preview's view and exposure
-  bool progress_bar = false;  // draw a progress bar on stderr (when it is a terminal)
+  bool progress_bar = false;  // progress on stderr: a bar on a terminal, else periodic lines (core/progress.h)
   bool resume = false;        // continue from the EXR's checkpoint
   double checkpoint_minutes = 10.0;
   bool memory_check = true;       // refuse a render that needs more memory than is available
