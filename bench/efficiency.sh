@@ -10,8 +10,9 @@
 #               hash, resolution, bands, spp and seed (nothing of the binary: render the cache with a
 #               trusted binary, e.g. the old one, which is the default).
 # The old and the new binary render every case alternately, round after round (round r uses seed
-# r for both), and the table gives per case the medians over the rounds and new/old of the median
-# works, with the load averages (`uptime`) before and after.
+# r for both), and the table gives per case the medians over the rounds, new/old of the median
+# works, and each round's new/old with their median, with the load averages (`uptime`) before and
+# after.
 #
 # Usage: bench/efficiency.sh OLD_SYLVA [NEW_SYLVA] [--rounds R] [--spp N] [--res WxH] [--threads N]
 #          [--cases "CASE …"] [--ref-spp N] [--ref-seed S] [--ref-sylva PATH] [--refs DIR]
@@ -135,14 +136,14 @@ echo "# uptime after: $(uptime)"
 python3 - "$runs" $cases <<'PY'
 import csv, statistics, sys
 rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
-print("| case | old relMSE | old CPU s | old work | new relMSE | new CPU s | new work | new/old work |")
-print("|---|---|---|---|---|---|---|---|")
+print("| case | old relMSE | old CPU s | old work | new relMSE | new CPU s | new work | new/old: medians | new/old: rounds (median) |")
+print("|---|---|---|---|---|---|---|---|---|")
 for case in sys.argv[2:]:
-    med = {}
-    for which in ("old", "new"):
-        r = [x for x in rows if x["case"] == case and x["binary"] == which]
-        med[which] = [statistics.median(float(x[k]) for x in r) for k in ("rel_mse", "cpu_s", "work")]
-    o, n = med["old"], med["new"]
-    name = case.replace(":", " ")
-    print(f"| {name} | {o[0]:.4g} | {o[1]:.2f} | {o[2]:.4g} | {n[0]:.4g} | {n[1]:.2f} | {n[2]:.4g} | {n[2] / o[2]:.3f} |")
+    runs = {w: [x for x in rows if x["case"] == case and x["binary"] == w] for w in ("old", "new")}
+    o, n = ([statistics.median(float(x[k]) for x in runs[w]) for k in ("rel_mse", "cpu_s", "work")] for w in ("old", "new"))
+    # Paired by round (same seed, back to back): the median of the rounds' ratios.
+    ratios = [float(b["work"]) / float(a["work"]) for a, b in zip(runs["old"], runs["new"])]
+    rounds = " ".join(f"{r:.2f}" for r in ratios)
+    print(f"| {case.replace(':', ' ')} | {o[0]:.4g} | {o[1]:.2f} | {o[2]:.4g} | {n[0]:.4g} | {n[1]:.2f} | {n[2]:.4g} "
+          f"| {n[2] / o[2]:.3f} | {rounds} (**{statistics.median(ratios):.3f}**) |")
 PY
