@@ -89,8 +89,8 @@ TEST_F(RelMse, TheToolPrintsTheIssue41Value) {
   EXPECT_EQ(std::fscanf(f, "%lf", &value), 1);
   std::fclose(f);
   EXPECT_NEAR(value, kIssue41, 1e-6 * kIssue41);  // printed with 6 significant digits
-  const std::string missing = std::string(SYLVA_REL_MSE_TOOL) + " '" + (dir_ / "test.exr").string() +
-                              "' '" + (dir_ / "none.exr").string() + "' 2>/dev/null";
+  const std::string missing = std::string(SYLVA_REL_MSE_TOOL) + " '" + (dir_ / "test.exr").string() + "' '" +
+                              (dir_ / "none.exr").string() + "' 2>/dev/null";
   EXPECT_NE(std::system(missing.c_str()), 0);
 #else
   GTEST_SKIP() << "the benchmarks are not built (SYLVA_BUILD_BENCH=OFF)";
