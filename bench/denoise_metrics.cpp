@@ -4,11 +4,12 @@
 // --rows: only rows FIRST to END-1 count (a reference rendered as one band of rows, a tile chunk
 // merged with --partial).
 //
-// relMSE = mean over pixels and beauty channels of ((x − r)² − Var(r)) / (r² + ε_c), Var(r) the
-// reference's var.<C>, ε_c = 10⁻² · (the reference's image mean of C)²; the groups by the
-// reference's pixel-centre id.class. Beauty channels: those of the reference that the image has
-// (R, G, B, <band>.Y), not var.*, albedo.*, ids or features.
+// relMSE (compare/rel_mse.h) = mean over pixels and beauty channels of ((x − r)² − Var(r)) /
+// (r² + ε_c), Var(r) the reference's var.<C>, ε_c = 10⁻² · (the reference's image mean of C)²; the
+// groups by the reference's pixel-centre id.class. Beauty channels: the reference's (R, G, B,
+// <band>.Y), not var.*, albedo.*, ids or features.
 
+#include "compare/rel_mse.h"
 #include "core/error.h"
 #include "core/image.h"
 
@@ -23,14 +24,6 @@
 namespace {
 
 using sylva::Image;
-
-// A beauty channel: one with a variance (var.<C>) that is not itself a variance, a feature or a
-// half-buffer.
-bool beauty(const Image& ref, const std::string& name) {
-  for (const char* prefix : {"var.", "noisy.", "even.", "odd.", "albedo.", "feature."})
-    if (name.rfind(prefix, 0) == 0) return false;
-  return ref.find_channel("var." + name) >= 0;
-}
 
 std::map<std::string, std::vector<int>> parse_groups(const std::string& text) {
   std::map<std::string, std::vector<int>> groups;
@@ -67,17 +60,13 @@ int run(int argc, char** argv) {
   const auto groups = parse_groups(argv[2]);
   const int cls = ref.find_channel("id.class");
   if (cls < 0) throw sylva::Error("the reference has no id.class");
-  std::vector<int> channels;
-  for (int c = 0; c < ref.channel_count(); ++c)
-    if (beauty(ref, ref.channels[c])) channels.push_back(c);
-  std::vector<double> eps;
-  for (const int c : channels) {
-    double m = 0;
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < ref.width; ++x) m += ref.at(x, y, c);
-    m /= pixel_count;
-    eps.push_back(1e-2 * m * m);
-  }
+  sylva::RelMseOptions options;
+  options.channels = sylva::beauty_channels(ref);
+  options.epsilon_scale = 1e-2;
+  options.epsilon = sylva::RelMseEpsilon::square_mean;
+  options.subtract_reference_variance = true;
+  options.row_begin = y0;
+  options.row_end = y1;
   std::string header = "image\tall";
   for (const auto& [name, ids] : groups) header += "\t" + name;
   std::printf("%s\n", header.c_str());
@@ -85,24 +74,18 @@ int run(int argc, char** argv) {
     const std::string arg = argv[i];
     const size_t eq = arg.find('=');
     const Image im = sylva::read_exr(arg.substr(eq + 1));
-    if (im.width != ref.width || im.height != ref.height) throw sylva::Error(arg + ": not the reference's size");
+    const std::vector<double> errors = sylva::relative_squared_errors(im, ref, options);
     std::map<int, std::pair<double, double>> per_class;  // class → (sum, count)
-    double sum = 0, count = 0;
-    for (size_t k = 0; k < channels.size(); ++k) {
-      const std::string& name = ref.channels[channels[k]];
-      const int ic = im.find_channel(name), rv = ref.find_channel("var." + name);
-      if (ic < 0 || rv < 0) throw sylva::Error(arg + ": no " + name + " or var." + name);
-      for (int y = y0; y < y1; ++y)
-        for (int x = 0; x < ref.width; ++x) {
-          const double r = ref.at(x, y, channels[k]), d = im.at(x, y, ic) - r;
-          const double e = (d * d - ref.at(x, y, rv)) / (r * r + eps[k]);
-          auto& pc = per_class[static_cast<int>(ref.at(x, y, cls))];
-          pc.first += e;
-          pc.second += 1;
-          sum += e;
-          count += 1;
-        }
-    }
+    double sum = 0;
+    size_t p = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < ref.width; ++x, ++p) {
+        auto& pc = per_class[static_cast<int>(ref.at(x, y, cls))];
+        pc.first += errors[p];
+        pc.second += 1;
+        sum += errors[p];
+      }
+    const double count = static_cast<double>(errors.size());
     std::string line = fmt::format("{}\t{:.5g}", arg.substr(0, eq), sum / count);
     for (const auto& [name, ids] : groups) {
       double s = 0, n = 0;

@@ -245,12 +245,25 @@ StudyResult run_study(const StudySpec& spec, const StudyRunOptions& options, Ren
   const std::string csv = manifest_csv(spec, result.frames), json = manifest_json(spec, result.frames, base);
   write_file_atomic(result.manifest_csv, [&](std::ostream& out) { out << csv; });
   write_file_atomic(result.manifest_json, [&](std::ostream& out) { out << json; });
+  const auto mine = [&](size_t index) {
+    return index % options.shard_count == static_cast<size_t>(options.shard_index);
+  };
   StudyProgress progress;
-  for (const StudyFrame& f : result.frames)
-    progress.total += f.index % options.shard_count == static_cast<size_t>(options.shard_index);
+  for (const StudyFrame& f : result.frames) progress.total += options.next_frame || mine(f.index);
+  // This process's frames: its shard's in order, or those next_frame hands out.
+  size_t cursor = 0;
+  const auto take = [&]() -> const StudyFrame* {
+    if (options.plan_only) return nullptr;
+    if (options.next_frame) {
+      const std::optional<size_t> i = options.next_frame();
+      return i && *i < result.frames.size() ? &result.frames[*i] : nullptr;
+    }
+    while (cursor < result.frames.size() && !mine(cursor)) ++cursor;
+    return cursor < result.frames.size() ? &result.frames[cursor++] : nullptr;
+  };
   double render_seconds = 0;
-  for (const StudyFrame& frame : result.frames) {
-    if (options.plan_only || frame.index % options.shard_count != static_cast<size_t>(options.shard_index)) continue;
+  for (const StudyFrame* next = take(); next != nullptr; next = take()) {
+    const StudyFrame& frame = *next;
     const FramePaths paths = frame_paths(spec, result.output_dir, frame);
     const auto start = StudyClock::now();
     if (frame_finished(paths)) {

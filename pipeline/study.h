@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct StudyRunOptions {
   int shard_count = 1;
   int threads = 0;         // 0: all
   bool plan_only = false;  // write the manifest, render nothing
+  // When set, the frames this process renders are those it hands out (indices into the plan, in
+  // any order) until it returns none, in place of the shard's: sylva-mpi's ranks ask rank 0.
+  std::function<std::optional<size_t>()> next_frame;
 };
 
 // "i/N" with 0 <= i < N <= 1e6; throws sylva::Error naming --shard.
@@ -57,7 +61,8 @@ struct StudyResult {
   uint64_t trees_generated = 0, trees_reused = 0;  // TreeMemo's counts
 };
 
-// Plans the study, writes its manifest, then renders this shard's unfinished frames in order.
+// Plans the study, writes its manifest, then renders this shard's unfinished frames in order (or
+// those `next_frame` hands out). Once every frame of the study is finished, writes its coco.json.
 // `on_progress` is called after each frame. Throws ParseError / Error for bad input.
 StudyResult run_study(const StudySpec& spec, const StudyRunOptions& options, RenderObserver& observer,
                       const std::function<void(const StudyProgress&)>& on_progress = {});

@@ -30,13 +30,14 @@ std::string coco_annotation(const FrameAnnotationInput& in, const TargetAnnotati
   std::string counts;
   for (const uint64_t c : rle_counts(a.modal, w, h)) counts += fmt::format("{}{}", counts.empty() ? "" : ",", c);
   return fmt::format(
-      "{{\"id\": {}, \"image_id\": {}, \"category_id\": {}, \"bbox\": {}, \"amodal_bbox\": {}, \"area\": {}, "
-      "\"iscrowd\": 0, \"segmentation\": {{\"size\": [{}, {}], \"counts\": [{}]}}, \"sylva_target\": {}, "
+      "{{\"id\": {}, \"image_id\": {}, \"category_id\": {}, \"bbox\": {}, \"amodal_bbox\": {}, \"truncated\": {}, "
+      "\"area\": {}, \"iscrowd\": 0, \"segmentation\": {{\"size\": [{}, {}], \"counts\": [{}]}}, \"sylva_target\": {}, "
       "\"visible_pixels\": {}, \"unoccluded_pixels\": {}, \"visible_fraction\": {}, \"critical_dimension_px\": {}, "
       "\"characteristic_dimension_px\": {}}}",
       (in.frame_index + 1) * 65536 + k + 1, in.frame_index + 1, a.class_id, coco_box(a.modal_box),
-      coco_box(a.amodal_box), a.visible_pixels, h, w, counts, json_string(a.name), a.visible_pixels,
-      a.unoccluded_pixels, a.visible_fraction(), a.critical_dimension_px, a.characteristic_dimension_px);
+      coco_box(a.amodal_box), a.truncated ? 1 : 0, a.visible_pixels, h, w, counts, json_string(a.name),
+      a.visible_pixels, a.unoccluded_pixels, a.visible_fraction(), a.critical_dimension_px,
+      a.characteristic_dimension_px);
 }
 
 std::string xml_text(const std::string& s) {
@@ -120,13 +121,11 @@ std::string frame_voc(const FrameAnnotationInput& in) {
   for (const TargetAnnotation& a : in.targets) {
     if (a.visible_pixels == 0) continue;
     const PixelBox& b = a.modal_box;
-    const PixelBox& m = a.amodal_box;
-    const bool truncated = m.x0 == 0 || m.y0 == 0 || m.x1 == image.width - 1 || m.y1 == image.height - 1;
     out += fmt::format(
         "  <object>\n    <name>{}</name>\n    <pose>Unspecified</pose>\n    <truncated>{}</truncated>\n"
         "    <occluded>{}</occluded>\n    <difficult>0</difficult>\n"
         "    <bndbox><xmin>{}</xmin><ymin>{}</ymin><xmax>{}</xmax><ymax>{}</ymax></bndbox>\n  </object>\n",
-        xml_text(a.label), truncated ? 1 : 0, a.visible_pixels < a.unoccluded_pixels ? 1 : 0, b.x0 + 1, b.y0 + 1,
+        xml_text(a.label), a.truncated ? 1 : 0, a.visible_pixels < a.unoccluded_pixels ? 1 : 0, b.x0 + 1, b.y0 + 1,
         b.x1 + 1, b.y1 + 1);
   }
   return out + "</annotation>\n";

@@ -5,7 +5,6 @@
 #include "core/hash.h"
 #include "core/input_file.h"
 #include "core/rng.h"
-#include "render/light_view.h"
 #include "scenes/sections/scene_builder.h"
 #include "scenes/toml_reader.h"
 
@@ -119,9 +118,18 @@ void read_bindings(const Params& root, StudySpec& spec) {
     spec.camera_orbit = orbit;
   }
   if (const Params* s = root.table("sun_time")) {
-    s->check_keys({"latitude", "day", "hour"});
-    spec.sun_time = SunTime{read_number(*s, "latitude", 45, spec.factors), read_number(*s, "day", 172, spec.factors),
-                            read_number(*s, "hour", 12, spec.factors)};
+    s->check_keys({"latitude", "longitude", "year", "day", "hour", "utc_offset"});
+    SunTime sun;
+    sun.latitude_deg = read_number(*s, "latitude", 45, spec.factors);
+    sun.longitude_deg = read_number(*s, "longitude", 0, spec.factors);
+    sun.year = read_number(*s, "year", 2025, spec.factors);
+    sun.day = read_number(*s, "day", 172, spec.factors);
+    sun.hour = read_number(*s, "hour", 12, spec.factors);
+    sun.clock = s->has("utc_offset");
+    sun.utc_offset_h = read_number(*s, "utc_offset", 0, spec.factors);
+    if (sun.clock && !s->has("longitude"))
+      s->fail("utc_offset", "a clock time (utc_offset) needs the place's 'longitude' (degrees east)");
+    spec.sun_time = sun;
   }
 }
 
@@ -251,13 +259,44 @@ std::vector<std::vector<std::string>> design_values(const StudySpec& spec) {
   return {};
 }
 
-std::pair<double, double> solar_position(double latitude_deg, double day, double hour) {
-  // render/light_view.h: Cooper's declination, the hour angle 15° per hour from solar noon.
-  const Vec3 d = sun_direction(static_cast<float>(glm::radians(latitude_deg)), static_cast<int>(std::lround(day)),
-                               static_cast<float>(glm::radians(15.0 * (hour - 12.0))));
-  double azimuth = glm::degrees(std::atan2(static_cast<double>(d.x), static_cast<double>(d.y)));
-  if (azimuth < 0) azimuth += 360.0;
-  return {azimuth, glm::degrees(std::asin(std::clamp(static_cast<double>(d.z), -1.0, 1.0)))};
+namespace {
+
+// Days from 2000-01-01 to 1 January of `year` (proleptic Gregorian).
+int64_t days_to_new_year(int64_t year) {
+  const auto leaps_before = [](int64_t y) { return (y - 1) / 4 - (y - 1) / 100 + (y - 1) / 400; };
+  return 365 * (year - 2000) + leaps_before(year) - leaps_before(2000);
+}
+
+}  // namespace
+
+// The U.S. Naval Observatory's "Approximate Solar Coordinates" (Astronomical Applications Dept.;
+// the low-precision formulas of The Astronomical Almanac, section C): about 1′ in the sun's
+// coordinates and a few seconds in the equation of time from 1950 to 2050. D is days from J2000.0
+// (2000-01-01 12:00 UT); g the mean anomaly, q the mean longitude, L the apparent ecliptic
+// longitude, ε the obliquity; the equation of time is q − RA, the hour angle
+// 15° (UT − 12) + longitude + the equation of time.
+SolarPosition solar_position(double latitude_deg, double longitude_deg, int year, double day_of_year, double hour_utc) {
+  const double d = static_cast<double>(days_to_new_year(year)) + (day_of_year - 1.0) + (hour_utc - 12.0) / 24.0;
+  const double g = glm::radians(357.529 + 0.98560028 * d);
+  const double q = std::fmod(280.459 + 0.98564736 * d, 360.0);
+  const double l = glm::radians(q + 1.915 * std::sin(g) + 0.020 * std::sin(2.0 * g));
+  const double e = glm::radians(23.439 - 0.00000036 * d);
+  const double ra_deg = glm::degrees(std::atan2(std::cos(e) * std::sin(l), std::cos(l)));
+  const double decl = std::asin(std::sin(e) * std::sin(l));
+  const double eot_deg = std::remainder(q - ra_deg, 360.0);
+  const double hour_angle = glm::radians(15.0 * (hour_utc - 12.0) + longitude_deg + eot_deg);
+  const double lat = glm::radians(latitude_deg);
+  // East, north, up of the direction to the sun.
+  const double east = -std::cos(decl) * std::sin(hour_angle);
+  const double north = std::sin(decl) * std::cos(lat) - std::cos(decl) * std::cos(hour_angle) * std::sin(lat);
+  const double up = std::sin(decl) * std::sin(lat) + std::cos(decl) * std::cos(hour_angle) * std::cos(lat);
+  SolarPosition s;
+  s.azimuth_deg = glm::degrees(std::atan2(east, north));
+  if (s.azimuth_deg < 0) s.azimuth_deg += 360.0;
+  s.elevation_deg = glm::degrees(std::asin(std::clamp(up, -1.0, 1.0)));
+  s.equation_of_time_min = 4.0 * eot_deg;
+  s.declination_deg = glm::degrees(decl);
+  return s;
 }
 
 namespace {
@@ -295,10 +334,32 @@ void add_orbit(const StudySpec& spec, const SceneFile& base, const std::vector<s
   const double bearing = glm::radians(heading + value_of(spec, orbit.aspect_deg, values));
   const double elevation = glm::radians(value_of(spec, orbit.elevation_deg, values));
   const glm::dvec3 aim = glm::dvec3(target->position) + glm::dvec3(0, 0, value_of(spec, orbit.aim_height_m, values));
-  const glm::dvec3 eye = aim + range * glm::dvec3(std::sin(bearing) * std::cos(elevation),
-                                                  std::cos(bearing) * std::cos(elevation), std::sin(elevation));
+  glm::dvec3 eye = aim + range * glm::dvec3(std::sin(bearing) * std::cos(elevation),
+                                            std::cos(bearing) * std::cos(elevation), std::sin(elevation));
+  glm::dvec3 at = aim;
+  if (base.camera_ground) {  // [camera] above_terrain: z above the ground under each point
+    eye.z -= static_cast<double>(
+        terrain_height(*base.camera_ground, Vec2(static_cast<float>(eye.x), static_cast<float>(eye.y))));
+    at.z -= static_cast<double>(
+        terrain_height(*base.camera_ground, Vec2(static_cast<float>(at.x), static_cast<float>(at.y))));
+  }
   overrides.push_back("camera.position=" + vec3_text(eye));
-  overrides.push_back("camera.target=" + vec3_text(aim));
+  overrides.push_back("camera.target=" + vec3_text(at));
+}
+
+void add_sun(const StudySpec& spec, const std::vector<std::string>& values, std::vector<std::string>& overrides) {
+  const SunTime& t = *spec.sun_time;
+  const double longitude = value_of(spec, t.longitude_deg, values);
+  const double hour = value_of(spec, t.hour, values);
+  // Clock time in its zone, or local mean solar time: either way to UT.
+  const double hour_utc = t.clock ? hour - value_of(spec, t.utc_offset_h, values) : hour - longitude / 15.0;
+  const double year = value_of(spec, t.year, values);
+  if (!(year >= 1 && year <= 9999))
+    throw Error(fmt::format("{}: [sun_time] year must lie in [1, 9999], not {}", spec.file.string(), year));
+  const SolarPosition s = solar_position(value_of(spec, t.latitude_deg, values), longitude,
+                                         static_cast<int>(std::lround(year)), value_of(spec, t.day, values), hour_utc);
+  overrides.push_back("sun.azimuth=" + number_text(s.azimuth_deg));
+  overrides.push_back("sun.elevation=" + number_text(s.elevation_deg));
 }
 
 }  // namespace
@@ -314,13 +375,7 @@ std::vector<StudyFrame> plan_study(const StudySpec& spec, const SceneFile& base)
     for (size_t f = 0; f < spec.factors.size(); ++f)
       if (!spec.factors[f].set.empty()) frame.overrides.push_back(spec.factors[f].set + "=" + values[i][f]);
     if (spec.camera_orbit) add_orbit(spec, base, values[i], frame.overrides);
-    if (spec.sun_time) {
-      const auto [azimuth, elevation] =
-          solar_position(value_of(spec, spec.sun_time->latitude_deg, values[i]),
-                         value_of(spec, spec.sun_time->day, values[i]), value_of(spec, spec.sun_time->hour, values[i]));
-      frame.overrides.push_back("sun.azimuth=" + number_text(azimuth));
-      frame.overrides.push_back("sun.elevation=" + number_text(elevation));
-    }
+    if (spec.sun_time) add_sun(spec, values[i], frame.overrides);
     uint64_t h = hash_ids(hash_text(SYLVA_VERSION), hash_text(base.content_hash));
     for (const std::string& o : frame.overrides) h = hash_ids(h, hash_text(o));
     frame.id = hex64(h);

@@ -34,17 +34,22 @@ struct StudyNumber {
 // The camera around a named [[targets]] entry of the base scene: at `range_m` (slant) from the aim
 // point (the target's position raised by `aim_height_m`), `elevation_deg` above its horizontal,
 // seen at `aspect_deg` from the target's front (clockwise from above: 90 = its right side), the
-// target's front being its `heading` (a factor, else the base scene's).
+// target's front being its `heading` (a factor, else the base scene's). When the base scene's
+// [camera] has above_terrain = true, the overrides give the camera's and the aim point's z as
+// heights above the terrain under each, so the scene places them at these points.
 struct CameraOrbit {
   std::string target;
   StudyNumber range_m, aspect_deg, elevation_deg, aim_height_m, heading_deg;
   bool heading_given = false;
 };
 
-// The sun at a place and solar time: latitude (deg, north positive), day of the year (1–366) and
-// local solar time (hours, 12 = solar noon); Cooper's declination (render/light_view.h).
+// The sun at a place and time (solar_position): latitude and longitude (deg, north and east
+// positive), year, day of the year (1–366) and `hour`: the clock time of the zone `utc_offset_h`
+// hours from UTC when `clock` (utc_offset given), else the local mean solar time (12 = mean noon at
+// the longitude; the sun crosses the meridian at 12 − the equation of time).
 struct SunTime {
-  StudyNumber latitude_deg, day, hour;
+  StudyNumber latitude_deg, longitude_deg, year, day, hour, utc_offset_h;
+  bool clock = false;
 };
 
 enum class StudyDesign { grid, list, latin_hypercube };
@@ -86,7 +91,11 @@ struct StudyFrame {
 // a new id and is rendered again.
 std::vector<StudyFrame> plan_study(const StudySpec& spec, const SceneFile& base);
 
-// The sun's compass azimuth and elevation (deg) at a latitude, day of the year and solar hour.
-std::pair<double, double> solar_position(double latitude_deg, double day, double hour);
+// The sun at a place and time: compass azimuth and elevation (deg, geometric: no refraction), and the
+// equation of time (minutes, apparent minus mean solar time). `hour_utc` may lie outside [0, 24).
+struct SolarPosition {
+  double azimuth_deg = 0, elevation_deg = 0, equation_of_time_min = 0, declination_deg = 0;
+};
+SolarPosition solar_position(double latitude_deg, double longitude_deg, int year, double day_of_year, double hour_utc);
 
 }  // namespace sylva

@@ -5,6 +5,7 @@
 #include "render/instance_sweep.h"
 #include "render/primitives/embree_geometry.h"
 #include "render/primitives/leaf_quads.h"
+#include "render/primitives/primitive.h"
 #include "render/primitives/triangles.h"
 
 #include <embree3/rtcore.h>
@@ -297,12 +298,12 @@ struct EmbreeScene::Impl {
   std::vector<RTCScene> prototypes;
   std::vector<EmbreePrototype> geometry;  // per prototype: what its kinds left for decoding hits
   std::vector<uint32_t> instance_prototype;
-  // The instance array (uses_instance_array): per prototype its object-space bounds; `array` points
-  // into them, the prototypes' scenes and the Scene's instances.
+  // Per prototype its object-space bounds (prototype_bounds: the union of its kinds' boxes); `array`
+  // points into them, the prototypes' scenes and the Scene's instances (the instance array and the
+  // sweep read it).
   std::vector<Bounds3> prototype_bounds;
   InstanceArray array;
-  // A scene of few copies (uses_instance_sweep): traced by the sweep, not through `top` (which is
-  // still built, for the scene's bounds).
+  // A scene of few copies (uses_instance_sweep): traced by the sweep, not through `top` (left empty).
   InstanceSweep sweep;
   bool sweeping = false;
   // Cyclic plot: the cell [lo, hi] (x, y), its period, and the heights outside which no geometry lies.
@@ -357,6 +358,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     e.no_shadow_alpha = faults.no_shadow_alpha;
     e.stats = &stats_;
     attach_prototype(e, proto);
+    impl_->prototype_bounds.push_back(prototype_bounds(proto));
     rtcCommitScene(s);
     check(device, "building a prototype BVH");
     impl_->prototypes.push_back(s);
@@ -387,14 +389,25 @@ EmbreeScene::EmbreeScene(const Scene& scene, const TransportFaults& faults, BvhB
     stats_.instanced_leaf_quads += p.leaves.size();
     stats_.instanced_curves += p.curves.size();
   }
-  stats_.instance_array = uses_instance_array(scene);
-  if (stats_.instance_array) {
-    add_instance_array(scene, copies);
-  } else {
-    add_native_instances(scene, copies);
-    stats_.instance_sweep = uses_instance_sweep(scene) && n_instances > 0;
-    if (stats_.instance_sweep) add_sweep(scene, copies);
+  impl_->array = InstanceArray{scene.instances.data(), impl_->prototypes.data(), impl_->prototype_bounds.data(),
+                               static_cast<uint32_t>(n_instances), impl_->period};
+  // The scene's bounds: every instance's box of its prototype's kinds (one period of a cyclic plot),
+  // the boxes the label sidecar reports and the instance array and the sweep cull by.
+  for (uint32_t i = 0; i < n_instances; ++i) {
+    const Bounds3 b = array_instance_bounds(impl_->array, i, 0);
+    if (!b.empty()) {
+      bounds_.extend(b.lo);
+      bounds_.extend(b.hi);
+    }
   }
+  stats_.instance_array = uses_instance_array(scene);
+  stats_.instance_sweep = !stats_.instance_array && uses_instance_sweep(scene) && n_instances > 0;
+  if (stats_.instance_array)
+    add_instance_array(scene, copies);
+  else if (stats_.instance_sweep)
+    add_sweep(scene, copies);
+  else
+    add_native_instances(scene, copies);
   stats_.instances = n_instances;
   rtcCommitScene(impl_->top);
   check(device, "building the instance BVH");
@@ -427,38 +440,12 @@ void EmbreeScene::add_native_instances(const Scene& scene, int copies) {
       rtcReleaseGeometry(g);
       if (id != k * n_instances + i) throw Error("embree: unexpected instance id");
     }
-    if (k == 0 && n_instances > 0) {
-      // The bounds of one period, before the shifted copies join the scene.
-      rtcCommitScene(impl_->top);
-      RTCBounds b;
-      rtcGetSceneBounds(impl_->top, &b);
-      bounds_.extend(Vec3(b.lower_x, b.lower_y, b.lower_z));
-      bounds_.extend(Vec3(b.upper_x, b.upper_y, b.upper_z));
-    }
   }
-}
-
-// The prototypes' object boxes and the description of the copies (Impl::array) that the instance
-// array and the sweep read.
-void EmbreeScene::set_up_copies(const Scene& scene) {
-  Impl& m = *impl_;
-  m.prototype_bounds.assign(m.prototypes.size(), Bounds3{});
-  for (size_t p = 0; p < m.prototypes.size(); ++p) {
-    RTCBounds b;
-    rtcGetSceneBounds(m.prototypes[p], &b);
-    if (b.lower_x <= b.upper_x) {
-      m.prototype_bounds[p].extend(Vec3(b.lower_x, b.lower_y, b.lower_z));
-      m.prototype_bounds[p].extend(Vec3(b.upper_x, b.upper_y, b.upper_z));
-    }
-  }
-  m.array = InstanceArray{scene.instances.data(), m.prototypes.data(), m.prototype_bounds.data(),
-                          static_cast<uint32_t>(scene.instances.size()), m.period};
 }
 
 // The sweep over the scene's copies (copy k of instance i at index k·N + i, as the native ids).
 void EmbreeScene::add_sweep(const Scene& scene, int copies) {
   Impl& m = *impl_;
-  set_up_copies(scene);
   const size_t n = scene.instances.size(), total = n * static_cast<size_t>(copies);
   std::vector<Bounds3> boxes;
   for (size_t j = 0; j < total; ++j) {
@@ -480,14 +467,6 @@ void EmbreeScene::add_instance_array(const Scene& scene, int copies) {
   if (n_instances * static_cast<size_t>(copies) >= RTC_INVALID_GEOMETRY_ID)
     throw Error(fmt::format("{} instances are more than the instance array holds", n_instances));
   Impl& m = *impl_;
-  set_up_copies(scene);
-  for (uint32_t i = 0; i < n_instances; ++i) {
-    const Bounds3 b = array_instance_bounds(m.array, i, 0);
-    if (!b.empty()) {
-      bounds_.extend(b.lo);
-      bounds_.extend(b.hi);
-    }
-  }
   RTCGeometry g = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_USER);
   rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(n_instances * static_cast<size_t>(copies)));
   rtcSetGeometryUserData(g, &m.array);

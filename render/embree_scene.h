@@ -116,7 +116,9 @@ class EmbreeScene {
   bool occluded(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from = kNoInstance) const;
 
   const EmbreeStats& stats() const { return stats_; }
-  // World bounds of all geometry (one period of a cyclic plot: the unshifted instances).
+  // World bounds of all geometry (one period of a cyclic plot: the unshifted instances): the union
+  // of every instance's prototype_bounds (render/primitives/primitive.h) through its transform,
+  // padded by a few ulps, the boxes the label sidecar reports per object.
   const Bounds3& bounds() const { return bounds_; }
   // The scene the BVHs were built from.
   const Scene& scene() const { return *scene_; }
@@ -130,7 +132,6 @@ class EmbreeScene {
 
   void add_native_instances(const Scene& scene, int copies);
   void add_instance_array(const Scene& scene, int copies);
-  void set_up_copies(const Scene& scene);
   void add_sweep(const Scene& scene, int copies);
   bool intersect_cell(const Ray& ray, RayHit* hit, uint32_t from) const;
   bool occluded_cell(const Vec3& origin, const Vec3& direction, float t_max, uint32_t from) const;

@@ -81,6 +81,8 @@ std::vector<TargetAnnotation> annotate_targets(const SceneFile& file, const Imag
           extend_box(a.amodal_box, x, y);
         }
       }
+    const PixelBox& m = a.amodal_box;
+    a.truncated = !m.empty() && (m.x0 == 0 || m.y0 == 0 || m.x1 == image.width - 1 || m.y1 == image.height - 1);
     a.characteristic_dimension_px = std::sqrt(static_cast<double>(a.unoccluded_pixels));
     a.critical_dimension_px = std::min(a.amodal_box.width(), a.amodal_box.height());
     out.push_back(std::move(a));

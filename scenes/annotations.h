@@ -26,7 +26,11 @@ struct TargetAnnotation {
   std::string name, label;
   uint32_t object_id = 0, class_id = 0;
   std::vector<uint8_t> modal;  // width × height, row-major, 1 where id.object is the target
+  // Both boxes and masks are clipped to the image: the amodal box bounds the target's pixels in the
+  // image, so a target that leaves the frame is `truncated` and its amodal box, unoccluded pixels and
+  // dimensions count only its part inside the image.
   PixelBox modal_box, amodal_box;
+  bool truncated = false;  // the amodal box touches the image's border
   uint64_t visible_pixels = 0, unoccluded_pixels = 0;
   // TTP's characteristic dimension: the square root of the target's unoccluded silhouette (pixels);
   // Johnson's critical dimension: the smaller side of its amodal box (pixels).

@@ -5,6 +5,7 @@
 
 #include "core/band.h"
 #include "core/image.h"
+#include "geometry/terrain.h"
 #include "render/renderer.h"
 #include "render/scene.h"
 #include "render/sensors/plot_sensor.h"
@@ -70,6 +71,9 @@ struct SceneFile {
   std::vector<std::string> warnings;  // "file:line: warning: ..." from species files it reads
   std::vector<VariantInfo> variants;  // the `id.variant` table (row i is variant i + 1)
   std::vector<TargetInfo> targets;    // [[targets]], in file order
+  // With [camera] above_terrain = true: the [terrain] its position and target z are heights above
+  // (a study's camera orbit writes them so); null otherwise.
+  std::shared_ptr<const HeightField> camera_ground;
 };
 
 // The largest camera coordinate (m, any axis) a scene may use: single-precision rays lose their

@@ -14,7 +14,11 @@
 // PNG. Every chunk it receives is also kept as a partial file in OUT.exr.parts/ (removed on
 // success): if a rank dies, mpirun ends the job with a message naming it, and the chunks already
 // finished can be merged or completed with `sylva render --chunk i/N` + `sylva merge`.
+//
+// `sylva-mpi --study STUDY.toml [-o DIR]` renders a detection study's frames over the ranks instead
+// (mpi_study.cpp, the only other file that includes mpi.h).
 
+#include "app/mpi/mpi_study.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/output_paths.h"
@@ -236,7 +240,12 @@ int main(int argc, char** argv) {
   CLI::App app{"sylva-mpi: one render split across MPI ranks (mpirun -n N sylva-mpi SCENE -o OUT.exr)"};
   app.set_version_flag("--version", SYLVA_VERSION);
   app.add_option("scene", req.source.file, "Scene file (TOML); omit for the built-in default scene");
-  app.add_option("-o,--output", opt.exr, "Output EXR (written by rank 0)")->required();
+  app.add_option("-o,--output", opt.exr, "Output EXR (written by rank 0); with --study the output folder");
+  std::string study;
+  app.add_option("--study", study,
+                 "Render the frames of a detection study (STUDY.toml, docs/studies.md) over the ranks, handed out one "
+                 "at a time, into a folder every rank shares; finished frames are skipped")
+      ->excludes("scene");
   app.add_option("--png", opt.png, "PNG preview of the visible band");
   app.add_option("--spp", req.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 24));
   app.add_option("--res", req.res, "Resolution WIDTHxHEIGHT");
@@ -267,8 +276,16 @@ int main(int argc, char** argv) {
     MPI_Finalize();
     return code == 0 ? 0 : 2;
   }
+  if (study.empty() && opt.exr.empty()) {
+    if (rank == 0) fmt::print(stderr, "sylva-mpi: --output is required (the EXR, or with --study the folder)\n");
+    MPI_Finalize();
+    return 2;
+  }
   try {
-    sylva::run(opt, rank, ranks);
+    if (!study.empty())
+      sylva::run_study_over_ranks({study, opt.exr, req.threads, opt.quiet}, rank, ranks);
+    else
+      sylva::run(opt, rank, ranks);
   } catch (const std::exception& e) {
     fmt::print(stderr, "sylva-mpi: rank {} of {}: {}\n", rank, ranks, e.what());
     MPI_Abort(MPI_COMM_WORLD, 2);  // the other ranks would wait for this one forever

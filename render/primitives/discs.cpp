@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "render/primitives/embree_geometry.h"
+#include "render/primitives/flat_writer.h"
 
 #include <fmt/core.h>
 
@@ -48,6 +49,23 @@ void attach_discs(EmbreePrototype& e, const Prototype& p) {
   }
   e.attach(g, PrimitiveKind::kDiscs);
   e.stats->discs += discs.size();
+}
+
+void flatten_discs(const Prototype& p, FlatWriter& out) {
+  const LeafDiscs& discs = p.discs;
+  for (size_t d = 0; d < discs.size(); ++d) {
+    const uint32_t base = out.next_vertex();
+    const Frame frame = Frame::from_z(discs.normal[d]);
+    const Vec3 n = out.world_normal(discs.normal[d]);
+    out.add_vertex(discs.centre[d], n);
+    for (int k = 0; k < kFlattenedDiscSides; ++k) {
+      const float a = kTwoPi * static_cast<float>(k) / kFlattenedDiscSides;
+      out.add_vertex(discs.centre[d] + discs.radius[d] * (std::cos(a) * frame.x + std::sin(a) * frame.y), n);
+    }
+    for (uint32_t k = 0; k < kFlattenedDiscSides; ++k)
+      out.add_triangle({base, base + 1 + k, base + 1 + (k + 1) % kFlattenedDiscSides});
+  }
+  out.close_part({p.disc_material, std::nullopt});
 }
 
 void decode_disc_hit(const Ray& ray, const RayHit& hit, const Instance& inst, const Prototype& p, HitContext& si) {

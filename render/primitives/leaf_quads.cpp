@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "render/primitives/embree_geometry.h"
+#include "render/primitives/flat_writer.h"
 
 #include <fmt/core.h>
 
@@ -80,6 +81,20 @@ void attach_leaf_quads(EmbreePrototype& e, const Prototype& p) {
     rtcSetGeometryOccludedFilterFunction(g, oval ? leaf_alpha_filter<false, true> : leaf_alpha_filter<false>);
   e.attach(g, PrimitiveKind::kLeafQuads);
   e.stats->leaf_quads += lq.size();
+}
+
+void flatten_leaf_quads(const Prototype& p, FlatWriter& out) {
+  static constexpr Vec2 kCornerUv[4] = {Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 1)};
+  const LeafQuads& leaves = p.leaves;
+  for (size_t q = 0; q < leaves.size(); ++q) {
+    const uint32_t base = out.next_vertex();
+    const Vec3* c = &leaves.corners[4 * q];
+    const Vec3 n = out.world_normal(glm::cross(c[2] - c[0], c[3] - c[1]));
+    for (int k = 0; k < 4; ++k) out.add_vertex(c[k], n, kCornerUv[k]);
+    out.add_triangle({base, base + 1, base + 2});
+    out.add_triangle({base, base + 2, base + 3});
+    out.close_part({p.leaf_material, leaves.shapes[q]});
+  }
 }
 
 ObjectSurfaceHit decode_leaf_quad_hit(const Prototype& p, const RayHit& hit, HitContext& si) {

@@ -4,7 +4,8 @@
 // decoding: triangles.h (meshes), leaf_quads.h, solids.h (half-space solids), media.h (the turbid
 // crowns among them), curves.h and discs.h. This header names the kinds and gathers what every
 // stage asks of all of them: validation and bounds. Adding a kind: its file, a row here, a case in
-// primitive.cpp, embree_scene.cpp (attach_prototype) and Integrator::interaction.
+// primitive.cpp, flat_writer.cpp (flatten_prototype), embree_geometry.cpp (attach_prototype),
+// EmbreeScene::intersect_cell and Integrator::interaction.
 
 #include "render/scene.h"
 
@@ -23,7 +24,8 @@ void validate_prototype(const Prototype& p);
 
 // The object-space box of everything `p` draws: the union of its kinds' bounds (each conservative:
 // every point of every primitive lies inside). Empty for an empty prototype. What the label sidecar
-// reports (scenes/sidecar.cpp) and what decides a prototype's robust traversal (EmbreeScene).
+// reports (scenes/sidecar.cpp), and through each instance's transform the scene's bounds and the
+// boxes the instance array and the sweep cull by (EmbreeScene).
 Bounds3 prototype_bounds(const Prototype& p);
 
 // The union of `a` and `b`.

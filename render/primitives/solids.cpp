@@ -1,7 +1,9 @@
 #include "render/primitives/solids.h"
 
 #include "core/error.h"
+#include "geometry/solids/solid_mesh.h"
 #include "render/primitives/embree_geometry.h"
+#include "render/primitives/flat_writer.h"
 
 #include <fmt/core.h>
 
@@ -83,6 +85,14 @@ void attach_solids(EmbreePrototype& e, const Prototype& p) {
   rtcSetGeometryOccludedFunction(g, solid_occluded);
   e.attach(g, PrimitiveKind::kSolids);
   e.stats->solids += p.solids.size();
+}
+
+void flatten_solids(const Prototype& p, uint32_t prototype, FlatWriter& out) {
+  if (p.solids.empty()) return;
+  TriangleMesh& mesh = out.prototype_mesh(prototype);
+  if (mesh.triangles.empty())
+    for (const HalfSpaceSolid& s : p.solids) append_mesh(mesh, solid_surface_mesh(s));
+  out.add_mesh(mesh, p.solid_palettes.front().front());
 }
 
 void decode_solid_hit(const Ray& ray, const RayHit& hit, const Instance& inst, const Prototype& p, HitContext& si) {

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "render/primitives/embree_geometry.h"
+#include "render/primitives/flat_writer.h"
 
 #include <fmt/core.h>
 
@@ -96,6 +97,8 @@ void decode_embree_triangle_hit(const EmbreePrototype& e, unsigned prim, float u
     hit->v = u + v - 1.0f;
   }
 }
+
+void flatten_triangles(const Prototype& p, FlatWriter& out) { out.add_mesh(p.triangles, p.triangle_material); }
 
 ObjectSurfaceHit decode_triangle_hit(const Prototype& p, const RayHit& hit, HitContext& si) {
   using namespace simd;

@@ -78,7 +78,7 @@ void parse_meshes(const Params& root, SceneBuilder& b) {
       (p.leaves.size() > 0 ? p.leaf_material : p.triangle_material) = material;
     }
     // A mesh names its class (a pad, a road, the ground) or is of class "mesh".
-    const uint32_t class_id = t->has("class") ? b.class_of(t->string("class")) : kClassMesh;
+    const uint32_t class_id = t->has("class") ? b.class_of(t->string("class"), *t, "class") : kClassMesh;
     b.mesh_classes.insert(class_id);
     b.place(*t, b.scene().add_prototype(std::move(p)), class_id);
   }

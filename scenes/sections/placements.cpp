@@ -41,7 +41,7 @@ std::vector<Kind> read_kinds(const Params& t, SceneBuilder& b) {
     s.with_leaves = k->boolean("leaves", true);
     s.materials = tree_materials(*k, *s.species, s.with_leaves, b);
     s.name = s.species->name;
-    kind.class_id = b.class_of(s.species->name);
+    kind.class_id = b.class_of(s.species->name, *k, "species");
     kinds.push_back(std::move(kind));
   }
   if (kinds.empty()) kinds_table->fail("[placements.species] needs at least one species: NAME = { species = ... }");

@@ -54,12 +54,12 @@ uint32_t class_id_of(std::string_view name) {
   return kFirstNamedClass + static_cast<uint32_t>(fnv1a64(name) % (kMaxClassId - kFirstNamedClass));
 }
 
-uint32_t SceneBuilder::class_of(const std::string& name) {
+uint32_t SceneBuilder::class_of(const std::string& name, const Params& at, std::string_view key) {
   const uint32_t id = class_id_of(name);
   const auto [it, added] = out_.scene.class_names.emplace(id, name);
   if (!added && it->second != name)
-    throw Error(fmt::format("classes '{}' and '{}' have the same id {} (class_id_of: a hash of the name); rename one",
-                            it->second, name, id));
+    at.fail(key, fmt::format("class '{}' has the id {} of class '{}' (class ids are a hash of the name); rename one",
+                             name, id, it->second));
   return id;
 }
 
@@ -158,6 +158,7 @@ void SceneBuilder::place(const Params& t, uint32_t proto, uint32_t class_id, uin
 }
 
 SceneFile SceneBuilder::finish() {
+  if (camera_above_terrain && terrain) out_.camera_ground = std::make_shared<const HeightField>(*terrain);
   if (automatic_ranges_.empty()) return std::move(out_);
   const std::vector<Instance>& all = out_.scene.instances;
   uint64_t offset = 0;

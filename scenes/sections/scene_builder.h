@@ -50,9 +50,9 @@ class SceneBuilder {
   uint32_t material_ref(const Params& t, const char* key) const;
 
   // The `id.class` of a name (a species, a target label, a [[meshes]] `class`): class_id_of(name),
-  // entered in the class table the first time (docs/scene_format.md, "Label AOVs"). Throws Error
-  // if another name of the scene has the same id.
-  uint32_t class_of(const std::string& name);
+  // entered in the class table the first time (docs/scene_format.md, "Label AOVs"). If another name
+  // of the scene has the same id, fails at `at`'s `key` (`file:line: ...`, ParseError).
+  uint32_t class_of(const std::string& name, const Params& at, std::string_view key);
   // The `id.variant` of a generated tree or target mesh, by its key (a new row the first time).
   uint32_t variant_of(const std::string& key, VariantInfo info);
 

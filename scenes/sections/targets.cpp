@@ -111,7 +111,7 @@ void parse_targets(const Params& root, SceneBuilder& b) {
     const TargetSpec s = read_target(*t, b);
     const std::string key = fmt::format("{}|{}", s.file.string(), s.material);
     const uint32_t proto = target_prototype(*t, s, key, b, prototypes);
-    const uint32_t class_id = b.class_of(s.label);
+    const uint32_t class_id = b.class_of(s.label, *t, "label");
     const uint32_t variant_id =
         b.variant_of("target|" + key, {"target", b.scene().prototypes[proto].name, s.file.string(), 0, class_id});
     float z = s.position.z;

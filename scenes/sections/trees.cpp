@@ -50,7 +50,7 @@ void place_solid_tree(const Params& t, const Species& species, const FournierGri
     for (const HalfSpaceSolid& solid : p.solids) p.solid_palettes.push_back(solid.material_slot == 0 ? bark : crown);
     protos = &cache.insert(key, {b.scene().add_prototype(std::move(p))});
   }
-  const uint32_t class_id = b.class_of(species.name);
+  const uint32_t class_id = b.class_of(species.name, t, "species");
   const uint32_t variant_id = b.variant_of(key, {"tree", species.name, species.file.string(), seed, class_id});
   for (const uint32_t proto : *protos) b.place(t, proto, class_id, variant_id);
 }
@@ -130,7 +130,7 @@ void parse_trees(const Params& root, SceneBuilder& b) {
       if (!tree[0].error.empty()) t->fail(file.string() + ": " + tree[0].error);
       cache.add(spec, tree[0], false);
     }
-    const uint32_t class_id = b.class_of(species.name);
+    const uint32_t class_id = b.class_of(species.name, *t, "species");
     const uint32_t variant_id = b.variant_of(spec.key, {"tree", species.name, file.string(), seed, class_id});
     if (b.lod.enabled) {
       place_tree_levels(*t, spec, class_id, variant_id, b);

@@ -21,7 +21,6 @@ struct Entries {
   std::vector<TreeVariantSpec> variants;
   std::vector<size_t> entry_of;                    // of each variant
   std::vector<std::vector<size_t>> variant_index;  // (entry, k-th variant) → variants
-  std::vector<const Species*> species;             // of each entry
   std::vector<uint32_t> class_ids;                 // of each entry
   uint32_t bits_used = 0;
 };
@@ -41,7 +40,7 @@ SpeciesPlacement read_entry(const Params& e, SceneBuilder& b, Entries& out) {
   spec.species = &b.load_species_once(spec.file);
   if (std::holds_alternative<FournierGrindalParams>(spec.species->model))
     e.fail("species", "a Fournier–Grindal species cannot be placed from a feature map (it has no trunk mesh)");
-  out.species.push_back(spec.species);
+  out.class_ids.push_back(b.class_of(spec.species->name, e, "species"));
   spec.materials = tree_materials(e, *spec.species, true, b);
   spec.options.quality = e.real("quality", 1.0, 0.01, 100.0);
   if (b.options().time_s) spec.options.time_s = *b.options().time_s;
@@ -69,7 +68,6 @@ std::vector<uint32_t> add_variants(Entries& entries, SceneBuilder& b) {
   std::vector<const TreeVariantSpec*> specs;
   for (const TreeVariantSpec& s : entries.variants) specs.push_back(&s);
   std::vector<GeneratedTree> trees = b.tree_variants().generate(specs);
-  for (const Species* species : entries.species) entries.class_ids.push_back(b.class_of(species->name));
   std::vector<uint32_t> ids;
   entries.variant_index.resize(entries.rules.size());
   for (size_t v = 0; v < entries.variants.size(); ++v) {

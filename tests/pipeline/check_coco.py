@@ -71,6 +71,11 @@ def main(path):
         ax, ay, aw, ah = a["amodal_bbox"]
         if not (ax <= box[0] and ay <= box[1] and ax + aw >= box[0] + box[2] and ay + ah >= box[1] + box[3]):
             fail(f"annotation {a['id']}: the amodal box {a['amodal_bbox']} does not hold the modal {box}")
+        if not (ax >= 0 and ay >= 0 and ax + aw <= image["width"] and ay + ah <= image["height"]):
+            fail(f"annotation {a['id']}: the amodal box {a['amodal_bbox']} leaves the image (it is clipped)")
+        touches = ax == 0 or ay == 0 or ax + aw == image["width"] or ay + ah == image["height"]
+        if a["truncated"] != (1 if touches else 0):
+            fail(f"annotation {a['id']}: truncated {a['truncated']} but the amodal box touches the border: {touches}")
         if not 0 < a["visible_fraction"] <= 1:
             fail(f"annotation {a['id']}: visible_fraction {a['visible_fraction']}")
     print(f"check_coco: {len(images)} images, {len(coco['annotations'])} annotations, {len(categories)} categories")

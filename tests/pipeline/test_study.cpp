@@ -164,17 +164,56 @@ values = ["camo", "metal"]
 }
 
 TEST_F(Study, SunFromDateTimeAndPlace) {
-  // Midsummer noon at 45° N: the sun due south, 90 − 45 + 23.45 degrees high (Cooper's declination).
-  const auto [az, el] = solar_position(45, 172, 12);
-  EXPECT_NEAR(az, 180.0, 0.01);
-  EXPECT_NEAR(el, 68.45, 0.05);
-  const auto [az_morning, el_morning] = solar_position(45, 172, 9);
-  EXPECT_GT(az_morning, 60.0);
-  EXPECT_LT(az_morning, 180.0);  // east of south in the morning
-  EXPECT_LT(el_morning, el);
-  const auto [az_evening, el_evening] = solar_position(45, 172, 15);
-  EXPECT_NEAR(az_evening, 360.0 - az_morning, 0.01);  // symmetric about noon
-  EXPECT_NEAR(el_evening, el_morning, 0.01);
+  // Almanac values. The equation of time at 12:00 UT: −6 min 25 s on 1980 July 27 (Duffett-Smith,
+  // Practical Astronomy with your Calculator, worked example); in 2001 between −14 min 20 s (near
+  // February 12) and +16 min 24 s (near November 4) (Royal Greenwich Observatory information sheet).
+  EXPECT_NEAR(solar_position(0, 0, 1980, 209, 12).equation_of_time_min, -(6 + 25 / 60.0), 0.1);
+  double lowest = 1e9, highest = -1e9;
+  for (int day = 1; day <= 365; ++day) {
+    const double eot = solar_position(0, 0, 2001, day, 12).equation_of_time_min;
+    lowest = std::min(lowest, eot);
+    highest = std::max(highest, eot);
+  }
+  EXPECT_NEAR(lowest, -(14 + 20 / 60.0), 0.15);
+  EXPECT_NEAR(highest, 16 + 24 / 60.0, 0.15);
+  // The 2023 March equinox (20 March, 21:24 UT) and the 2026 June solstice (21 June, 08:24 UT,
+  // obliquity 23.436°): the declination then.
+  EXPECT_NEAR(solar_position(0, 0, 2023, 79, 21.4).declination_deg, 0.0, 0.02);
+  EXPECT_NEAR(solar_position(0, 0, 2026, 172, 8.4).declination_deg, 23.436, 0.02);
+  // The sun crosses Greenwich's meridian at 12:00 UT minus the equation of time (11:43:35 UT on
+  // 2001 November 3), due south and 90° − latitude + declination high.
+  const SolarPosition transit = solar_position(51.4779, 0, 2001, 307, 12.0 - 16.42 / 60.0);
+  EXPECT_NEAR(transit.azimuth_deg, 180.0, 0.05);
+  EXPECT_NEAR(transit.elevation_deg, 90.0 - 51.4779 + transit.declination_deg, 1e-6);
+  EXPECT_NEAR(transit.declination_deg, -15.0, 0.2);
+  // Longitude shifts the clock: 15° east sees the same sun an hour earlier in UT.
+  const SolarPosition east = solar_position(51.4779, 15, 2001, 307, 11.0 - 16.42 / 60.0);
+  EXPECT_NEAR(east.azimuth_deg, 180.0, 0.05);
+  // Morning and afternoon symmetric about the transit (within the day's change of declination).
+  const SolarPosition morning = solar_position(45, 0, 2025, 172, 9.0);
+  EXPECT_GT(morning.azimuth_deg, 60.0);
+  EXPECT_LT(morning.azimuth_deg, 180.0);  // east of south in the morning
+}
+
+TEST_F(Study, SunTimeTakesClockOrMeanSolarTime) {
+  // Midsummer 2025 at 45° N, 7.5° E: local mean noon is 11:30 UT, clock 13:30 in UTC+2; both put
+  // the sun at the place's meridian less the equation of time (−1.9 min: the sun still east of
+  // south, about 1.2° at this latitude and season).
+  const std::string sun = "[[factors]]\nname = \"h\"\nvalues = [12]\n";
+  const std::string place = "[sun_time]\nlatitude = 45\nlongitude = 7.5\nyear = 2025\nday = 172\n";
+  const StudySpec mean = write_study(sun + place + "hour = \"h\"\n");
+  const StudySpec clock = write_study(sun + place + "hour = 13.5\nutc_offset = 2\n");
+  SceneOptions options;
+  const SceneFile base = load_scene_file(mean.scene, options);
+  const std::vector<std::string> a = plan_study(mean, base)[0].overrides, b = plan_study(clock, base)[0].overrides;
+  EXPECT_EQ(a, b);
+  ASSERT_EQ(a.size(), 2u);
+  const SolarPosition expected = solar_position(45, 7.5, 2025, 172, 11.5);
+  EXPECT_NEAR(expected.equation_of_time_min, -1.9, 0.2);
+  EXPECT_NEAR(expected.azimuth_deg, 178.8, 0.2);
+  EXPECT_NEAR(std::stod(a[0].substr(a[0].find('=') + 1)), expected.azimuth_deg, 1e-6) << a[0];
+  EXPECT_NE(study_error("[sun_time]\nutc_offset = 1\n").find(":5: a clock time (utc_offset) needs"), std::string::npos)
+      << study_error("[sun_time]\nutc_offset = 1\n");
 }
 
 TEST_F(Study, CameraOrbitAroundANamedTarget) {
@@ -203,7 +242,7 @@ hour = 12
   for (const StudyFrame& f : frames) {
     ASSERT_EQ(f.overrides.size(), 4u);
     EXPECT_EQ(f.overrides[1], "camera.target=[0, 0, 1.5]");
-    EXPECT_EQ(f.overrides[2], "sun.azimuth=180");
+    EXPECT_EQ(f.overrides[2].rfind("sun.azimuth=178.8", 0), 0u) << f.overrides[2];  // noon less the EoT
   }
   // Frame 1: range 30, aspect 90 — the tank's right side: heading 30° + 90° = bearing 120°.
   SceneOptions with;
@@ -213,11 +252,44 @@ hour = 12
   EXPECT_NEAR(glm::length(eye - aim), 30.0f, 1e-4f);
   EXPECT_NEAR(glm::degrees(std::asin((eye.z - aim.z) / 30.0f)), 10.0f, 1e-3f);
   EXPECT_NEAR(glm::degrees(std::atan2(eye.x - aim.x, eye.y - aim.y)), 120.0f, 1e-3f);
-  EXPECT_NEAR(f.scene.sun.elevation_deg, 68.45f, 0.05f);
+  EXPECT_NEAR(f.scene.sun.elevation_deg, 68.44f, 0.05f);
   // Distinct inputs, distinct ids.
   std::set<std::string> ids;
   for (const StudyFrame& frame : frames) ids.insert(frame.id);
   EXPECT_EQ(ids.size(), 4u);
+}
+
+TEST_F(Study, CameraOrbitHonoursAboveTerrain) {
+  // A hilly terrain and a base camera whose z are heights above it: the orbit's overrides are
+  // heights too, so the loaded scene has the camera at the orbit's range and elevation.
+  std::string scene = base_scene(false);
+  scene.replace(scene.find("[camera]\n"), 9, "[camera]\nabove_terrain = true\n");
+  scene.replace(scene.find("[[meshes]]"), std::string::npos,
+                "[terrain]\nsize = [400, 400]\nresolution = 2.0\nrelief = 25.0\nfeature_size = 80\nseed = 4\n"
+                "material = \"grey\"\n[[targets]]\nname = \"tank\"\nfile = \"targets/vehicle.obj\"\n"
+                "material = \"camo\"\nlabel = \"vehicle\"\nposition = [10, 20, 0]\nheading = 30\n");
+  std::ofstream(dir_ / "scene.toml") << scene;
+  std::ofstream(dir_ / "study.toml") << "[study]\nscene = \"scene.toml\"\n[[factors]]\nname = \"aspect\"\n"
+                                        "values = [0, 90, 200]\n[camera_orbit]\ntarget = \"tank\"\nrange = 120\n"
+                                        "aspect = \"aspect\"\nelevation = 8\naim_height = 1.5\n";
+  const StudySpec spec = load_study(dir_ / "study.toml");
+  SceneOptions options;
+  const SceneFile base = load_scene_file(spec.scene, options);
+  ASSERT_NE(base.camera_ground, nullptr);
+  const Vec3 target = base.targets[0].position;
+  EXPECT_GT(std::abs(target.z), 0.5f) << "the tank stands on the hill, not at z = 0";
+  std::set<float> heights;
+  for (const StudyFrame& frame : plan_study(spec, base)) {
+    SceneOptions with;
+    with.overrides = frame.overrides;
+    const SceneFile f = load_scene_file(spec.scene, with);
+    const Vec3 eye = f.scene.camera.position, aim = f.scene.camera.target;
+    EXPECT_NEAR(aim.z, target.z + 1.5f, 1e-3f);
+    EXPECT_NEAR(glm::length(eye - aim), 120.0f, 1e-2f);
+    EXPECT_NEAR(glm::degrees(std::asin((eye.z - aim.z) / 120.0f)), 8.0f, 1e-2f);
+    heights.insert(eye.z - terrain_height(*base.camera_ground, Vec2(eye)));
+  }
+  EXPECT_EQ(heights.size(), 3u) << "the camera's height above the ground differs with the ground under it";
 }
 
 TEST_F(Study, MistakesNameTheStudyFileAndLine) {

@@ -185,5 +185,36 @@ TEST_F(StudyAnnotations, MasksBoxesAndCocoAgreeWithTheIdAovs) {
   EXPECT_EQ(study["annotations"].array.size(), 2u);
 }
 
+TEST_F(StudyAnnotations, AmodalBoxesAreClippedToTheImage) {
+  // The camera turned right so the vehicle leaves the image on the left: its boxes are clipped to
+  // the image, and it is truncated in COCO and VOC.
+  std::ofstream(dir_ / "scene.toml") << kAnnotatedScene;
+  std::ofstream(dir_ / "study.toml")
+      << "[study]\nscene = \"scene.toml\"\noutput = \"out\"\n"
+         "set = [\"camera.target=[7.5, 0, 1]\", \"meshes.wall.translate=[0, 500, 0]\"]\n";
+  RenderObserver observer;
+  StudyRunOptions run;
+  run.threads = 2;
+  const StudyResult r = run_study(load_study(dir_ / "study.toml"), run, observer);
+  ASSERT_EQ(r.rendered, 1u);
+  const std::filesystem::path frames = dir_ / "out" / "frames";
+  const std::string id = r.frames[0].id;
+  const Image image = read_exr(frames / (id + ".exr"));
+  const test::Json coco = test::JsonParser(read_whole_file(frames / (id + ".coco.json"))).parse();
+  ASSERT_EQ(coco["annotations"].array.size(), 1u);
+  const test::Json& a = coco["annotations"][0];
+  EXPECT_EQ(a["amodal_bbox"][0].number, 0.0) << "the vehicle reaches the left border";
+  EXPECT_LE(a["amodal_bbox"][0].number + a["amodal_bbox"][2].number, image.width);
+  EXPECT_EQ(a["truncated"].number, 1.0);
+  // Nothing hides it: the modal and amodal boxes agree, visible fraction 1.
+  for (size_t k = 0; k < 4; ++k) EXPECT_EQ(a["bbox"][k].number, a["amodal_bbox"][k].number);
+  EXPECT_EQ(a["visible_fraction"].number, 1.0);
+  EXPECT_NE(read_whole_file(frames / (id + ".xml")).find("<truncated>1</truncated>"), std::string::npos);
+  const std::string command = "python3 " SYLVA_SOURCE_DIR "/tests/pipeline/check_coco.py '" +
+                              (dir_ / "out" / "coco.json").string() + "' > '" + (dir_ / "check.txt").string() +
+                              "' 2>&1";
+  EXPECT_EQ(std::system(command.c_str()), 0) << read_whole_file(dir_ / "check.txt");
+}
+
 }  // namespace
 }  // namespace sylva

@@ -82,6 +82,23 @@ TEST(ClassTable, MeshesNameTheirClassAndTargetsStandOnThem) {
   EXPECT_EQ(plain.scene.instances[0].class_id, kClassMesh);
 }
 
+TEST(ClassTable, ACollisionNamesTheFileAndLine) {
+  // Two names whose ids collide (found by search): the second is refused where it is given.
+  ASSERT_EQ(class_id_of("class 54351"), class_id_of("class 60020"));
+  try {
+    parse(kHeader + target("class 54351", 0) + target("class 60020", 10));
+    ADD_FAILURE() << "no error";
+  } catch (const ParseError& e) {
+    const std::string m = e.what();
+    // The second target's label, line 24 of the scene.
+    EXPECT_EQ(m.rfind("classes.toml:24: class 'class 60020' has the id " + std::to_string(class_id_of("class 60020")) +
+                          " of class 'class 54351'",
+                      0),
+              0u)
+        << m;
+  }
+}
+
 class CopiedExample : public test::TempDirTest {};
 
 TEST_F(CopiedExample, FindsItsSpeciesTablesAndMeshesInTheDataFolder) {

@@ -1,9 +1,13 @@
 // The label sidecar's object boxes for every primitive kind (render/primitives/primitive.h's
 // prototype_bounds): a labelled [[canopies]] layer of exact discs and a grass patch of ribbons get
-// boxes that hold every point of their geometry and are tight to it.
+// boxes that hold every point of their geometry and are tight to it; the scene's bounds
+// (EmbreeScene::bounds) are the same boxes, and the OBJ exporter's flattened mesh lies in them.
 
 #include "core/image.h"
 #include "geometry/grass.h"
+#include "render/embree_scene.h"
+#include "render/flatten.h"
+#include "render/primitives/primitive.h"
 #include "scenes/scene_file.h"
 #include "scenes/sidecar.h"
 #include "tests/support/json_parse.h"
@@ -54,21 +58,44 @@ void expect_box_of(const test::Json& box, const Bounds3& truth, double slack, co
   }
 }
 
-TEST(Sidecar, DiscCanopyAndGrassPatchGetTheBoxesOfTheirGeometry) {
+// The canopy (object 7) and a grass patch, moved and turned a quarter turn (which turns its box into
+// the box of the turned patch), as its own object (8).
+SceneFile canopy_and_grass() {
   SceneFile f = parse_scene(kCanopy, "c.toml", SYLVA_SOURCE_DIR "/data/examples");
-  Scene& scene = f.scene;
-  // A grass patch, moved and turned a quarter turn (which turns its box into the box of the turned
-  // patch), as its own object.
   Prototype grass;
   grass.name = "grass";
   grass.curves = make_grass_patch(GrassParams{}, 5);
-  const uint32_t grass_proto = scene.add_prototype(std::move(grass));
+  const uint32_t grass_proto = f.scene.add_prototype(std::move(grass));
   Instance placed{grass_proto};
   placed.world_from_object =
       glm::translate(Mat4(1.0f), Vec3(-4, 1, 0.2f)) * glm::rotate(Mat4(1.0f), 0.5f * kPi, Vec3(0, 0, 1));
   placed.object_id = 8;
   placed.class_id = kClassGrass;
-  scene.instances.push_back(placed);
+  f.scene.instances.push_back(placed);
+  return f;
+}
+
+// The sidecar of `f` over a 4×2 image that shows objects 7 and 8.
+test::Json sidecar_of(const SceneFile& f) {
+  Image image = make_image(4, 2, {"id.object", "id.class"});
+  image.at(0, 0, 0) = 7;
+  image.at(1, 0, 0) = 8;
+  RenderSettings settings;
+  settings.width = image.width;
+  settings.height = image.height;
+  return test::parse_json(make_sidecar(f, settings, image, "out.exr"));
+}
+
+Bounds3 box_of(const test::Json& box) {
+  Bounds3 b;
+  b.extend(Vec3(box["min"][0].number, box["min"][1].number, box["min"][2].number));
+  b.extend(Vec3(box["max"][0].number, box["max"][1].number, box["max"][2].number));
+  return b;
+}
+
+TEST(Sidecar, DiscCanopyAndGrassPatchGetTheBoxesOfTheirGeometry) {
+  SceneFile f = canopy_and_grass();
+  const Scene& scene = f.scene;
 
   // What each object's geometry covers in the world: the discs' rims, the ribbons finely tessellated.
   Bounds3 canopy, blades;
@@ -93,18 +120,35 @@ TEST(Sidecar, DiscCanopyAndGrassPatchGetTheBoxesOfTheirGeometry) {
   ASSERT_FALSE(canopy.empty());
   ASSERT_FALSE(blades.empty());
 
-  Image image = make_image(4, 2, {"id.object", "id.class"});
-  image.at(0, 0, 0) = 7;
-  image.at(1, 0, 0) = 8;
-  RenderSettings settings;
-  settings.width = image.width;
-  settings.height = image.height;
-  const test::Json j = test::parse_json(make_sidecar(f, settings, image, "out.exr"));
+  const test::Json j = sidecar_of(f);
   // Discs: exact boxes, to the rim sampling's 1 − cos(π/720) of a radius.
   expect_box_of(object_entry(j, 7)["bounds"], canopy, 1e-3, "canopy");
   // Ribbons: their control polygons grown by a blade's half-width; a bent blade's polygon reaches a
   // little beyond the blade itself.
   expect_box_of(object_entry(j, 8)["bounds"], blades, 0.05, "grass");
+}
+
+TEST(Sidecar, SceneSidecarAndObjExportShareOneBounds) {
+  SceneFile f = canopy_and_grass();
+  const test::Json j = sidecar_of(f);
+  const Bounds3 canopy = box_of(object_entry(j, 7)["bounds"]), grass = box_of(object_entry(j, 8)["bounds"]);
+  // The scene's bounds: the union of the sidecar's boxes, padded by a few ulps.
+  const EmbreeScene embree(f.scene);
+  const Bounds3 both = merged(canopy, grass);
+  for (int a = 0; a < 3; ++a) {
+    const float ulps = 1e-6f * (1.0f + std::abs(both.lo[a]) + std::abs(both.hi[a]));
+    EXPECT_LE(embree.bounds().lo[a], both.lo[a]) << "axis " << a;
+    EXPECT_GE(embree.bounds().lo[a], both.lo[a] - ulps) << "axis " << a;
+    EXPECT_GE(embree.bounds().hi[a], both.hi[a]) << "axis " << a;
+    EXPECT_LE(embree.bounds().hi[a], both.hi[a] + ulps) << "axis " << a;
+  }
+  // The OBJ exporter's mesh (the discs as inscribed 12-gons; grass is not exported) lies in the
+  // canopy's box and reaches each of its sides to within the polygon's 1 − cos(π/12) of a radius.
+  const FlatScene flat = flatten_scene(f.scene);
+  ASSERT_FALSE(flat.mesh.positions.empty());
+  Bounds3 exported;
+  for (const Vec3& v : flat.mesh.positions) exported.extend(v);
+  expect_box_of(object_entry(j, 7)["bounds"], exported, 0.1 * (1.0 - std::cos(kPi / 12.0)) + 1e-5, "exported canopy");
 }
 
 }  // namespace

@@ -154,3 +154,34 @@ if [[ "$before" != "$(stat -c %Y.%s "$work"/anim/f.000?.exr)" ]]; then
   exit 1
 fi
 echo "ok: a 3-frame Slurm array equals the local --frames render and resumes by skipping finished frames"
+
+# A detection study (scripts/slurm/submit_study.sh): a 3-task array of shards and the dependent
+# collect job write the files of a local `sylva study` byte for byte (manifest, frames, annotations,
+# the study's coco.json); re-submitting renders nothing again.
+# shellcheck source=tests/app/tiny_study.sh
+source "$repo/tests/app/tiny_study.sh"
+mkdir -p "$work/study"
+chmod 777 "$work/study"
+write_tiny_study "$work/study"
+"$sylva" study "$work/study/study.toml" -o "$work/study_local" --threads 1 --quiet || exit 1
+submit_study() {
+  SYLVA="$sylva" STUDY_ARGS="--threads 1" SBATCH_ARGS="--output=$work/study-%A_%a.out" \
+    "$repo/scripts/slurm/submit_study.sh" 3 "$work/study/study.toml" "$work/study/out"
+}
+ids=$(submit_study) || exit 1
+read -r array collect <<<"$ids"
+wait_for "$array,$collect" || { echo "FAIL: the study jobs never finished" >&2; exit 1; }
+if ! diff -r "$work/study_local" "$work/study/out" >&2; then
+  echo "FAIL: the Slurm study differs from the local one (or is incomplete); job outputs:" >&2
+  tail -n 5 "$work"/study-*.out >&2
+  exit 1
+fi
+before=$(stat -c %Y.%s "$work"/study/out/frames/*)
+ids=$(submit_study) || exit 1
+read -r array collect <<<"$ids"
+wait_for "$array,$collect" || { echo "FAIL: the re-submitted study never finished" >&2; exit 1; }
+if [[ "$before" != "$(stat -c %Y.%s "$work"/study/out/frames/*)" ]]; then
+  echo "FAIL: a re-submitted study rendered finished frames again" >&2
+  exit 1
+fi
+echo "ok: a 3-shard Slurm study and its collect job equal the local study and resume by skipping finished frames"

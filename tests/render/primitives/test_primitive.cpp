@@ -1,12 +1,16 @@
-// The primitive kinds (render/primitives/): each kind's bounds hold what Embree builds from it (the
-// scene's bounds lie inside prototype_bounds; discs the other way round: Embree bounds a disc by
-// its sphere) and are tight to it, and each kind's validation names the prototype.
+// The primitive kinds (render/primitives/): each kind's bounds hold every hit Embree finds on it and
+// are tight to them, the scene's bounds are the kinds' (EmbreeScene::bounds), and each kind's
+// validation names the prototype.
 
 #include "core/error.h"
+#include "core/rng.h"
+#include "core/sampling.h"
 #include "geometry/grass.h"
 #include "geometry/primitives.h"
 #include "render/embree_scene.h"
 #include "render/primitives/primitive.h"
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <gtest/gtest.h>
 
@@ -34,10 +38,15 @@ std::vector<std::pair<std::string, Prototype>> one_of_each_kind() {
   Prototype mesh;
   mesh.triangles = make_sphere(1.5f);
   kinds.emplace_back("triangles", std::move(mesh));
+  // A cut-out leaf (its hits lie inside its quad) and an uncut one beside it (whose hits reach the
+  // corners' box, so that the box's tightness is tested).
   Prototype leaves;
   for (const Vec3& c : {Vec3(0, 0, 0), Vec3(1, 0, 0.5f), Vec3(1, 1, 1), Vec3(0, 1, 0.2f)})
     leaves.leaves.corners.push_back(c);
   leaves.leaves.shapes.push_back(LeafShape::Oval);
+  for (const Vec3& c : {Vec3(0.5f, 0, 0), Vec3(1.5f, 0, 0.5f), Vec3(1.5f, 1, 1), Vec3(0.5f, 1, 0.2f)})
+    leaves.leaves.corners.push_back(c);
+  leaves.leaves.shapes.push_back(LeafShape::Rectangle);
   kinds.emplace_back("leaf quads", std::move(leaves));
   Prototype solid;
   solid.solids.push_back(cube());
@@ -64,29 +73,47 @@ std::vector<std::pair<std::string, Prototype>> one_of_each_kind() {
   return kinds;
 }
 
-TEST(PrimitiveKinds, BoundsHoldWhatEmbreeBuildsAndAreTight) {
+TEST(PrimitiveKinds, BoundsHoldEveryHitAndAreTight) {
+  // Rays from all around at random points of each kind's box: every hit lies in the box (the
+  // bounds are conservative for what Embree intersects, discs included, whose BVH box is their
+  // sphere's), and the hits reach within 5 % of the box's size of each of its faces (tight). The
+  // scene's bounds are the same box through the instance's transform (EmbreeScene::bounds).
   for (auto& [name, proto] : one_of_each_kind()) {
     Scene scene;
     scene.add_material("m", make_leaf("m", DenseSpectrum::constant(0.3f), DenseSpectrum::constant(0.3f)));
     const uint32_t p = scene.add_prototype(std::move(proto));
-    scene.instances.push_back(Instance{p});
-    const Bounds3 ours = prototype_bounds(scene.prototypes[p]);
-    const Bounds3 embree = EmbreeScene(scene).bounds();
+    const Mat4 placed = glm::scale(glm::translate(Mat4(1.0f), Vec3(3, -2, 1)), Vec3(1.5f, 0.5f, 2.0f));
+    scene.instances.push_back(Instance{p, placed});
+    const Bounds3 ours = transformed(prototype_bounds(scene.prototypes[p]), placed);
+    const EmbreeScene embree(scene);
     ASSERT_FALSE(ours.empty()) << name;
-    ASSERT_FALSE(embree.empty()) << name;
     const Vec3 size = ours.hi - ours.lo;
-    const float ulps = 1e-6f * (1.0f + glm::length(size));
-    // Embree bounds a disc by its sphere (centre ± r); ours are the disc's exact box, inside it.
-    const bool discs = name == "discs";
-    const Bounds3& outer = discs ? embree : ours;
-    const Bounds3& inner = discs ? ours : embree;
+    const float ulps = 1e-5f * (1.0f + glm::length(ours.hi) + glm::length(ours.lo));
     for (int a = 0; a < 3; ++a) {
-      EXPECT_LE(outer.lo[a], inner.lo[a] + ulps) << name << " axis " << a;
-      EXPECT_GE(outer.hi[a], inner.hi[a] - ulps) << name << " axis " << a;
-      // Tight: within 5 % of the kind's extent of each other (curves' control polygons reach beyond
-      // a bent blade; a disc's sphere beyond the disc).
-      EXPECT_LE(inner.lo[a] - outer.lo[a], 0.05f * glm::length(size)) << name << " axis " << a;
-      EXPECT_LE(outer.hi[a] - inner.hi[a], 0.05f * glm::length(size)) << name << " axis " << a;
+      EXPECT_NEAR(embree.bounds().lo[a], ours.lo[a], ulps) << name << " axis " << a;
+      EXPECT_NEAR(embree.bounds().hi[a], ours.hi[a], ulps) << name << " axis " << a;
+    }
+    const Vec3 centre = 0.5f * (ours.lo + ours.hi);
+    const float radius = glm::length(size) + 1.0f;
+    Pcg32 rng(17);
+    Bounds3 hits;
+    for (int i = 0; i < 40000; ++i) {
+      const Vec3 o = centre + radius * sample_uniform_sphere(uniform2(rng));
+      const Vec3 target = ours.lo + uniform3(rng) * size;
+      const Ray ray{o, glm::normalize(target - o)};
+      RayHit hit;
+      if (!embree.intersect(ray, &hit)) continue;
+      const Vec3 at = ray.origin + hit.t * ray.direction;
+      for (int a = 0; a < 3; ++a) {
+        ASSERT_GE(at[a], ours.lo[a] - ulps) << name << " axis " << a;
+        ASSERT_LE(at[a], ours.hi[a] + ulps) << name << " axis " << a;
+      }
+      hits.extend(at);
+    }
+    ASSERT_FALSE(hits.empty()) << name;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_LE(hits.lo[a] - ours.lo[a], 0.05f * glm::length(size)) << name << " axis " << a;
+      EXPECT_LE(ours.hi[a] - hits.hi[a], 0.05f * glm::length(size)) << name << " axis " << a;
     }
   }
 }
