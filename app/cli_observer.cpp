@@ -33,6 +33,15 @@ void add_request_options(CLI::App* cmd, RenderRequest& req) {
                   "Embree's kernels, at most: sse2, sse4.2, avx, avx2 (default: the same bits on every processor "
                   "with AVX2), avx512, or native (the processor's widest)")
       ->check(CLI::IsMember(embree_isa_names()));
+  cmd->add_option("--noise-threshold", req.noise_threshold,
+                  "Adaptive sampling: the relative standard error each pixel should reach, e.g. 0.02 "
+                  "(--spp is then the most a pixel takes; docs/sampling.md)")
+      ->check(CLI::Range(0.0, 0.999));
+  cmd->add_option("--noise-channels", req.noise_channels,
+                  "Comma-separated channels the noise threshold applies to (default: every band channel), e.g. R,G,B");
+  cmd->add_option("--time-limit", req.time_limit_s,
+                  "Stop after this many seconds of rendering and write the image (samples spread over every pixel)")
+      ->check(CLI::Range(0.0, 1e9));
   add_set_option(cmd, req.overrides);
 }
 

@@ -85,6 +85,9 @@ RenderJob prepare_render(const RenderRequest& request) {
   if (!request.quantity.empty()) settings.quantity = parse_quantity(request.quantity);
   if (!request.isa.empty()) settings.isa = parse_embree_isa(request.isa);
   if (!request.bands.empty()) settings.bands = resolve_bands(job.file, split_list(request.bands));
+  if (request.noise_threshold >= 0) settings.noise_threshold = static_cast<float>(request.noise_threshold);
+  if (!request.noise_channels.empty()) settings.noise_channels = split_list(request.noise_channels);
+  if (request.time_limit_s >= 0) settings.time_limit_s = request.time_limit_s;
   settings.progress = request.progress;
   settings.features = settings.features || request.features;
   return job;
@@ -108,6 +111,12 @@ std::map<std::string, std::string> describe_job(const RenderRequest& request, co
       {"isa", embree_isa_name(s.isa)}};
   // Hexadecimal: the exact double, so the merge rebuilds the same scene.
   if (s.features) fields.emplace("features", "yes");
+  if (s.noise_threshold > 0) {
+    fields["noise_threshold"] = fmt::format("{:a}", static_cast<double>(s.noise_threshold));
+    std::string channels;
+    for (const auto& c : s.noise_channels) channels += (channels.empty() ? "" : ",") + c;
+    if (!channels.empty()) fields["noise_channels"] = channels;
+  }
   if (request.time_s) fields["time"] = fmt::format("{:a}", *request.time_s);
   for (size_t i = 0; i < request.overrides.size(); ++i) fields[fmt::format("set_{}", i)] = request.overrides[i];
   return fields;
@@ -124,6 +133,12 @@ RenderRequest request_from_job(const std::map<std::string, std::string>& fields,
   if (const auto it = fields.find("quantity"); it != fields.end()) r.quantity = it->second;
   if (const auto it = fields.find("isa"); it != fields.end()) r.isa = it->second;
   r.features = fields.count("features") > 0;
+  if (const auto it = fields.find("noise_threshold"); it != fields.end()) {
+    char* end = nullptr;
+    r.noise_threshold = std::strtod(it->second.c_str(), &end);
+    if (it->second.empty() || *end != '\0') throw Error("partial render header: job.noise_threshold is not a number");
+  }
+  if (const auto it = fields.find("noise_channels"); it != fields.end()) r.noise_channels = it->second;
   for (size_t i = 0;; ++i) {
     const auto it = fields.find(fmt::format("set_{}", i));
     if (it == fields.end()) break;

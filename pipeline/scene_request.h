@@ -44,6 +44,9 @@ struct RenderRequest {
   std::string quantity;  // "radiance" or "reflectance"
   std::string isa;       // Embree's kernels (parse_embree_isa); empty: the scene file's
   int threads = 0;
+  double noise_threshold = -1;  // adaptive sampling's relative error (RenderSettings); < 0: the file's
+  std::string noise_channels;   // comma-separated band channels it applies to
+  double time_limit_s = -1;     // seconds (RenderSettings::time_limit_s); < 0: the file's
   bool progress = false;
   bool features = false;         // gather the denoiser's features (RenderSettings::features)
   std::optional<double> time_s;  // wind time of every tree (SceneOptions::time_s)

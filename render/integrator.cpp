@@ -109,8 +109,13 @@ float Integrator::segment_transmittance(const Vec3& o, const Vec3& d, float t_ma
 }
 
 LightSample Integrator::sample_light(const SampledWavelengths& wl, Pcg32& rng) const {
-  const Vec2 u_light = uniform2(rng);
-  const float u_select = rng.uniform();
+  PathSampler sampler(rng);
+  return sample_light(wl, sampler);
+}
+
+LightSample Integrator::sample_light(const SampledWavelengths& wl, PathSampler& sampler) const {
+  const Vec2 u_light = sampler.get2d(SampleDim::kLight);
+  const float u_select = sampler.get1d(SampleDim::kLightSelect);
   if (environment_.empty()) return LightSample{Vec3(0.0f), SampledSpectrum(0.0f), 0.0f};
   return environment_.sample(u_light, u_select, wl);
 }
@@ -210,7 +215,13 @@ bool Integrator::scatter(const SurfaceVertex& v, Vec2 u, float u_lobe, SampledSp
 
 SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first,
                                      uint64_t& rays) const {
-  PathState path(ray, wl, rng, first);
+  PathSampler sampler(rng);
+  return radiance(ray, wl, sampler, first, rays);
+}
+
+SampledSpectrum Integrator::radiance(Ray ray, const SampledWavelengths& wl, PathSampler& sampler, FirstHit* first,
+                                     uint64_t& rays) const {
+  PathState path(ray, wl, sampler, first);
   trace_paths({&path, 1}, rays);
   return path.L;
 }
@@ -250,12 +261,17 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   path.shadow.kind = ShadowQuery::Kind::kNone;
   const Ray& ray = path.ray;
   const float t_surface = found ? hit.t : std::numeric_limits<float>::infinity();
-  const float s_crown = path.sigma_t > 0.0f ? -std::log(1.0f - path.rng->uniform()) / path.sigma_t : t_surface;
+  PathSampler& sampler = *path.sampler;
+  // Each event's random numbers are its own dimensions (core/sampler.h): depth + crossings grows
+  // by one at every event a path lives through.
+  sampler.start_event(1 + static_cast<uint32_t>(path.depth + path.crossings));
+  const float s_crown =
+      path.sigma_t > 0.0f ? -std::log(1.0f - sampler.get1d(SampleDim::kFreeFlight)) / path.sigma_t : t_surface;
   if (haze_.enabled()) {
     // The haze's collision competes with the crown's and the surface (independent media: the
     // nearer event happens; docs/radiometry.md, "Haze").
-    const float s = haze_.sample_scattering(ray.origin, ray.direction, std::min(s_crown, t_surface), path.wl, *path.rng,
-                                            path.beta, path.haze_ratio);
+    const float s = haze_.sample_scattering(ray.origin, ray.direction, std::min(s_crown, t_surface), path.wl,
+                                            sampler.get1d(SampleDim::kHaze), path.beta, path.haze_ratio);
     if (s < std::numeric_limits<float>::infinity()) return scatter_in_haze(path, found, hit, s);
   }
   if (path.sigma_t > 0.0f && s_crown < t_surface) return scatter_in_crown(path, s_crown);
@@ -279,7 +295,7 @@ void Integrator::roulette_then_next_bounce(PathState& path) const {
   // Russian roulette from rr_start_depth (survivors weighted 1/(1 − q)), then the next bounce.
   if (path.depth + 1 >= settings_.rr_start_depth) {
     const float q = std::max(0.05f, 1.0f - max_component(path.beta));
-    if (path.rng->uniform() < q) {
+    if (path.sampler->get1d(SampleDim::kRoulette) < q) {
       path.alive = false;
       return;
     }
@@ -295,7 +311,7 @@ void Integrator::roulette_then_next_bounce(PathState& path) const {
 void Integrator::scatter_in_haze(PathState& path, bool found, const RayHit& hit, float s) const {
   Ray& ray = path.ray;
   const SampledWavelengths& wl = path.wl;
-  Pcg32& rng = *path.rng;
+  PathSampler& sampler = *path.sampler;
   // The AOVs describe the first surface on the camera ray whether or not the haze scatters the path
   // before it.
   if (path.first && path.depth == 0 && found && !turbid_crown(scene_, hit)) {
@@ -310,14 +326,14 @@ void Integrator::scatter_in_haze(PathState& path, bool found, const RayHit& hit,
   }
   const Vec3 p = ray.origin + s * ray.direction;
   const float g = haze_.desc().g;
-  if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+  if (const LightSample ls = sample_light(wl, sampler); ls.pdf > 0 && !is_black(ls.radiance)) {
     const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
     const float w = power_heuristic(ls.pdf, phase);
     path.shadow =
         ShadowQuery{ShadowQuery::Kind::kSky, kNoInstance, p, ls.wi, path.beta, SampledSpectrum(1.0f), ls.radiance,
                     phase * w / ls.pdf};
   }
-  const Vec3 wi = sample_henyey_greenstein(ray.direction, g, uniform2(rng));
+  const Vec3 wi = sample_henyey_greenstein(ray.direction, g, sampler.get2d(SampleDim::kScatter));
   path.prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
   path.emitters_sampled = false;
   ray = Ray{p, wi};
@@ -328,7 +344,7 @@ void Integrator::scatter_in_haze(PathState& path, bool found, const RayHit& hit,
 void Integrator::scatter_in_crown(PathState& path, float s) const {
   Ray& ray = path.ray;
   const SampledWavelengths& wl = path.wl;
-  Pcg32& rng = *path.rng;
+  PathSampler& sampler = *path.sampler;
   if (path.depth + 1 > settings_.max_depth) {
     path.alive = false;
     return;
@@ -340,7 +356,7 @@ void Integrator::scatter_in_crown(PathState& path, float s) const {
   in_crown.wl = &wl;
   const Bsdf leaf = lobes_.bsdf(in_crown);
   const LeafPhase phase = make_leaf_phase(leaf.reflectance(), leaf.albedo() - leaf.reflectance());
-  if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+  if (const LightSample ls = sample_light(wl, sampler); ls.pdf > 0 && !is_black(ls.radiance)) {
     const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
     if (!is_black(f)) {
       const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
@@ -355,8 +371,9 @@ void Integrator::scatter_in_crown(PathState& path, float s) const {
                                 ls.pdf};
     }
   }
-  const Vec2 u_normal = uniform2(rng), u_direction = uniform2(rng);
-  const float u_lobe = rng.uniform();
+  const Vec2 u_normal = sampler.get2d(SampleDim::kScatterNormal);
+  const Vec2 u_direction = sampler.get2d(SampleDim::kScatter);
+  const float u_lobe = sampler.get1d(SampleDim::kLobe);
   LeafPhaseSample ps;
   if (!sample_leaf_phase(phase, ray.direction, u_normal, u_direction, u_lobe, &ps)) {
     path.alive = false;
@@ -384,7 +401,7 @@ void Integrator::cross_crown_boundary(PathState& path, const RayHit& hit, const 
 void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
   Ray& ray = path.ray;
   const SampledWavelengths& wl = path.wl;
-  Pcg32& rng = *path.rng;
+  PathSampler& sampler = *path.sampler;
   const SurfaceVertex v = surface_vertex(ray, hit, wl);
   const HitContext& si = v.ctx;
   const Vec3& ng = v.ng;
@@ -399,7 +416,7 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
   const Vec3& wo_local = v.wo_local;
 
   // Next-event estimation towards the sun + sky mixture.
-  if (const LightSample ls = sample_light(wl, rng); ls.pdf > 0 && !is_black(ls.radiance)) {
+  if (const LightSample ls = sample_light(wl, sampler); ls.pdf > 0 && !is_black(ls.radiance)) {
     const Vec3 wi_local = v.frame.to_local(ls.wi);
     const float cos_g = glm::dot(ls.wi, ng);
     const bool transmits = cos_g < 0;
@@ -425,8 +442,8 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
   if (!emitters_.empty()) sample_emitter(path, v);
 
   // Continue the path by sampling the BSDF.
-  const Vec2 u_bsdf = uniform2(rng);
-  const float u_lobe = rng.uniform();
+  const Vec2 u_bsdf = sampler.get2d(SampleDim::kScatter);
+  const float u_lobe = sampler.get1d(SampleDim::kLobe);
   if (!scatter(v, u_bsdf, u_lobe, path.beta, path.prev_pdf, ray)) {
     path.alive = false;
     return;
@@ -440,8 +457,8 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
 void Integrator::sample_emitter(PathState& path, const SurfaceVertex& v) const {
   // A point on an emitter (by power, then uniform on its triangle), as a direction: the density per
   // area times d²/|cos θ_light| (Veach 1997 §9.2; pbrt-v4 §12.3 "Area lights").
-  const float u_select = path.rng->uniform();
-  const Vec2 u = uniform2(*path.rng);
+  const float u_select = path.sampler->get1d(SampleDim::kEmitterSelect);
+  const Vec2 u = path.sampler->get2d(SampleDim::kEmitter);
   EmitterPoint e = emitters_.sample(u_select, u);
   const Vec3 to = e.ctx.p - v.ctx.p;
   const float dist2 = glm::dot(to, to);

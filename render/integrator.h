@@ -13,6 +13,7 @@
 // sampled (emitters.h). A scene without emitters draws no random number for them.
 #include "core/band.h"
 #include "core/rng.h"
+#include "core/sampler.h"
 #include "render/embree_scene.h"
 #include "render/lights/emitters.h"
 #include "render/materials/hit_context.h"
@@ -109,16 +110,16 @@ struct ShadowQuery {
 // radiance() would.
 struct PathState {
   PathState() = default;
-  PathState(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit)
-      : ray(camera_ray), wl(wavelengths), rng(&random), first(first_hit) {}
+  PathState(const Ray& camera_ray, const SampledWavelengths& wavelengths, PathSampler& random, FirstHit* first_hit)
+      : ray(camera_ray), wl(wavelengths), sampler(&random), first(first_hit) {}
   // The same as assigning PathState(camera_ray, ...), written in place: a temporary's copy would
   // reload its fields right after storing them at other offsets, which the processor cannot
   // forward (a stall per path; bench/README.md, "Four at a time").
-  void start(const Ray& camera_ray, const SampledWavelengths& wavelengths, Pcg32& random, FirstHit* first_hit) {
+  void start(const Ray& camera_ray, const SampledWavelengths& wavelengths, PathSampler& random, FirstHit* first_hit) {
     ray = camera_ray;
     from = kNoInstance;
     wl = wavelengths;
-    rng = &random;
+    sampler = &random;
     first = first_hit;
     L = SampledSpectrum(0.0f);
     beta = SampledSpectrum(1.0f);
@@ -138,8 +139,8 @@ struct PathState {
   Ray ray;                      // the next ray to trace
   uint32_t from = kNoInstance;  // the instance whose surface `ray` leaves (EmbreeScene::intersect)
   SampledWavelengths wl;
-  Pcg32* rng = nullptr;
-  FirstHit* first = nullptr;  // optional
+  PathSampler* sampler = nullptr;  // the path's random numbers (events from 1 on: advance())
+  FirstHit* first = nullptr;       // optional
   SampledSpectrum L{0.0f}, beta{1.0f};
   // With haze: the path's free-flight density per carried wavelength over the hero's (Haze::sample_scattering).
   SampledSpectrum haze_ratio{1.0f};
@@ -173,6 +174,8 @@ class Integrator {
   // Radiance along `ray` for the carried wavelengths. `first` (optional) receives first-hit data;
   // `rays` is incremented by the number of rays traced (closest-hit and shadow).
   SampledSpectrum radiance(Ray ray, const SampledWavelengths& wl, Pcg32& rng, FirstHit* first, uint64_t& rays) const;
+  SampledSpectrum radiance(Ray ray, const SampledWavelengths& wl, PathSampler& sampler, FirstHit* first,
+                           uint64_t& rays) const;
 
   // Traces paths.size() ≤ kMaxPaths paths to their ends in lock-step, bounce by bounce: the
   // closest-hit rays of all, then their shading, then their shadow rays, so each stage's code stays
@@ -206,6 +209,7 @@ class Integrator {
   // random numbers always (so a path's draws do not depend on the scene's lights), then samples the
   // sun + sky mixture; pdf 0 when the scene has no light. Callers use a sample with pdf > 0 and
   // non-black radiance.
+  LightSample sample_light(const SampledWavelengths& wl, PathSampler& sampler) const;
   LightSample sample_light(const SampledWavelengths& wl, Pcg32& rng) const;
 
   // The crowns' transmittance times the haze's (per wavelength) along an unoccluded ray to the sky.

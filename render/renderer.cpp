@@ -27,8 +27,34 @@ constexpr int kFeaturesWithVariance = kLeaf;  // normal, depth and sun
 static_assert(static_cast<int>(FeatureClass::kLeaf) == 1 && static_cast<int>(FeatureClass::kBark) == 2 &&
               static_cast<int>(FeatureClass::kGround) == 3);
 
-int film_channels(size_t band_channels, bool features) {
+// The film's channels: each band channel's radiance and albedo; each one's even-sample sum (with the
+// features or adaptive sampling); the features; adaptive sampling's stream count and two pilot sums
+// per noise channel (Renderer::adaptive_base_).
+int adaptive_base(size_t band_channels, bool features) {
+  return static_cast<int>(3 * band_channels + (features ? kFeatureSlots : 0));
+}
+int film_channels(size_t band_channels, bool features, size_t noise_channels) {
+  if (noise_channels > 0) return adaptive_base(band_channels, features) + 1 + 2 * static_cast<int>(noise_channels);
   return static_cast<int>(2 * band_channels + (features ? band_channels + kFeatureSlots : 0));
+}
+
+// The band channels adaptive sampling watches: `names` (every channel if empty), as indices.
+std::vector<int> noise_channel_indices(const std::vector<std::string>& names, const BandChannels& channels) {
+  std::vector<int> out;
+  if (names.empty()) {
+    for (size_t c = 0; c < channels.size(); ++c) out.push_back(static_cast<int>(c));
+    return out;
+  }
+  for (const std::string& n : names) {
+    const auto it = std::find(channels.names.begin(), channels.names.end(), n);
+    if (it == channels.names.end()) {
+      std::string known;
+      for (const auto& c : channels.names) known += (known.empty() ? "" : ", ") + c;
+      throw Error(fmt::format("noise channel '{}' is not a channel of this render (its channels: {})", n, known));
+    }
+    out.push_back(static_cast<int>(it - channels.names.begin()));
+  }
+  return out;
 }
 
 }  // namespace
@@ -55,8 +81,22 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
   if (settings_.bands.empty()) throw Error("no bands to render");
   if (settings_.integrator.max_depth < 1) throw Error("maximum depth must be at least 1");
   if (band_channel_count(settings_.bands) > 64) throw Error("too many band channels (at most 64)");
+  if (!(settings_.noise_threshold >= 0 && settings_.noise_threshold < 1))
+    throw Error(
+        fmt::format("noise threshold {} is not in [0, 1) (a relative error, e.g. 0.02)", settings_.noise_threshold));
+  if (adaptive() && (settings_.pilot_spp < 4 || settings_.pilot_spp % 2 != 0 || settings_.pilot_spp > settings_.spp))
+    throw Error(fmt::format("pilot samples per pixel must be even, at least 4 and at most spp ({}); got {}",
+                            settings_.spp, settings_.pilot_spp));
   environment_ = Environment(scene_.sun, scene_.sky);
   channels_ = BandChannels(settings_.bands, environment_, settings_.quantity);
+  if (adaptive()) {
+    noise_channels_ = noise_channel_indices(settings_.noise_channels, channels_);
+    for (const int c : noise_channels_) {
+      const double white = channels_.irradiance[static_cast<size_t>(c)] / kPi * channels_.scale[static_cast<size_t>(c)];
+      noise_floor_.push_back(white > 0 ? sqr(0.01 * white) : 1e-20);
+    }
+    adaptive_base_ = adaptive_base(channels_.size(), settings_.features);
+  }
   const std::vector<const DenseSpectrum*>& weights = channels_.weights;
   channel_blocks_ = (weights.size() + 3) / 4;
   interleaved_weights_.assign(static_cast<size_t>(kLambdaSamples) * channel_blocks_, Vec4(0.0f));
@@ -96,8 +136,11 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
   }
   const uint64_t copies = scene.instances.size() * (scene.plot.defined && scene.plot.cyclic ? 9 : 1);
   MemoryEstimate m;
-  m.film_bytes = pixels * (static_cast<uint64_t>(film_channels(channels, settings.features)) * 2 * sizeof(double) +
-                           sizeof(uint32_t));
+  const size_t noise =
+      settings.noise_threshold > 0 ? (settings.noise_channels.empty() ? channels : settings.noise_channels.size()) : 0;
+  m.film_bytes =
+      pixels * (static_cast<uint64_t>(film_channels(channels, settings.features, noise)) * 2 * sizeof(double) +
+                sizeof(uint32_t));
   m.image_bytes = pixels * ((3 * channels + 8) * sizeof(float) + 3 * sizeof(float) + 3);
   m.bvh_bytes = primitives * kBvhBytesPerPrimitive + curves * kBvhBytesPerCurve +
                 copies * (uses_instance_array(scene) ? kArrayInstanceBytes : kNativeInstanceBytes);
@@ -106,7 +149,9 @@ MemoryEstimate estimate_render_memory(const Scene& scene, const RenderSettings& 
 
 Film Renderer::make_film() const { return make_film(image_region(), 0); }
 
-int Renderer::film_channels() const { return sylva::film_channels(channels_.size(), settings_.features); }
+int Renderer::film_channels() const {
+  return sylva::film_channels(channels_.size(), settings_.features, noise_channels_.size());
+}
 
 Film Renderer::make_film(const PixelRegion& window, uint32_t first_sample) const {
   return Film(settings_.width, settings_.height, film_channels(), window, first_sample);
@@ -117,8 +162,7 @@ void Renderer::check_film(const Film& film) const {
     throw Error("film does not match the render settings");
 }
 
-void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample,
-                            uint64_t& rays) const {
+void Renderer::render_pixel(Film& film, int x, int y, int stream, uint32_t first, uint32_t end, uint64_t& rays) const {
   const uint64_t pixel_id =
       static_cast<uint64_t>(y) * static_cast<uint64_t>(settings_.width) + static_cast<uint64_t>(x);
   // The pixel's paths a batch at a time (Integrator::trace_paths): a pixel's camera rays and first
@@ -126,29 +170,37 @@ void Renderer::render_pixel(Film& film, int x, int y, uint32_t first_sample, uin
   constexpr int kBatch = 8;
   static_assert(kBatch <= Integrator::kMaxPaths);
   Pcg32 rngs[kBatch];
+  PathSampler samplers[kBatch];
   FirstHit firsts[kBatch];
   PathState paths[kBatch];
   Vec3 directions[kBatch];
-  for (uint32_t batch = first_sample; batch < end_sample; batch += kBatch) {
-    const int n = static_cast<int>(std::min<uint32_t>(kBatch, end_sample - batch));
+  for (uint32_t batch = first; batch < end; batch += kBatch) {
+    const int n = static_cast<int>(std::min<uint32_t>(kBatch, end - batch));
     for (int k = 0; k < n; ++k) {
-      Pcg32& rng = rngs[k];
-      rng = Pcg32(hash_ids(settings_.seed, pixel_id, batch + static_cast<uint32_t>(k)));
-      const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + uniform2(rng);
-      const Vec2 lens = uniform2(rng);
-      const SampledWavelengths wl = wavelengths_.sample(rng.uniform());
+      PathSampler& sampler = samplers[k];
+      const uint32_t index = batch + static_cast<uint32_t>(k);
+      if (stream == kAllSamples)
+        sampler.start(settings_.sampler, rngs[k], settings_.seed, pixel_id, index);
+      else
+        sampler.start_stream(settings_.sampler, rngs[k], settings_.seed, pixel_id, static_cast<uint32_t>(stream),
+                             index);
+      const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + sampler.get2d(SampleDim::kPixel);
+      const Vec2 lens = sampler.get2d(SampleDim::kLens);
+      const SampledWavelengths wl = wavelengths_.sample(sampler.get1d(SampleDim::kWavelength));
       firsts[k] = FirstHit{};
       const Ray ray = camera_.generate_ray(film_pos, lens);
       directions[k] = ray.direction;
-      paths[k].start(ray, wl, rng, &firsts[k]);
+      paths[k].start(ray, wl, sampler, &firsts[k]);
     }
     integrator_->trace_paths({paths, static_cast<size_t>(n)}, rays);
-    for (int k = 0; k < n; ++k) add_sample(film, x, y, paths[k].wl, paths[k].L, firsts[k], directions[k]);
+    for (int k = 0; k < n; ++k)
+      add_sample(film, x, y, stream, batch + static_cast<uint32_t>(k), paths[k].wl, paths[k].L, firsts[k],
+                 directions[k]);
   }
 }
 
-void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L,
-                          const FirstHit& first, const Vec3& camera_direction) const {
+void Renderer::add_sample(Film& film, int x, int y, int stream, uint32_t index, const SampledWavelengths& wl,
+                          SampledSpectrum L, const FirstHit& first, const Vec3& camera_direction) const {
   // A non-finite radiance never reaches the film; such a sample counts as black.
   bool finite = true;
   for (int i = 0; i < kLambdaCount; ++i) finite &= std::isfinite(L[i]);
@@ -170,7 +222,7 @@ void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl
     }
   }
   const size_t nc = channels_.size();
-  float values[3 * 64 + kFeatureSlots];
+  float values[3 * 64 + kFeatureSlots + 1 + 2 * 64];
   for (size_t b = 0; b < nb; ++b) {
     const Vec4 vb = v[b] / static_cast<float>(kLambdaCount) * scale_blocks_[b];
     const Vec4 ab = a[b] / albedo_norm_blocks_[b];
@@ -179,18 +231,27 @@ void Renderer::add_sample(Film& film, int x, int y, const SampledWavelengths& wl
       values[nc + 4 * b + k] = select(has_albedo_blocks_[b][k], ab[k], 0.0f);
     }
   }
-  if (settings_.features) feature_values(film, x, y, first, camera_direction, values);
+  // The half-buffers: the sample's beauty in the even channel when it is even (an even index of the
+  // pixel's sequence, or stream 0), else 0; the odd half is the whole minus the even.
+  const bool even = stream == kAllSamples ? index % 2 == 0 : stream == 0;
+  if (has_even_channels())
+    for (size_t c = 0; c < nc; ++c) values[even_channel(c)] = even ? values[c] : 0.0f;
+  if (settings_.features) feature_values(first, camera_direction, values + 3 * nc);
+  if (adaptive()) {
+    // Stream 0's count, then the pilot sums of each noise channel: stream 0's and both streams'.
+    float* a_values = values + adaptive_base_;
+    const bool pilot = index < static_cast<uint32_t>(settings_.pilot_spp / 2);
+    a_values[0] = even ? 1.0f : 0.0f;
+    for (size_t k = 0; k < noise_channels_.size(); ++k) {
+      const float x_k = pilot ? values[noise_channels_[k]] : 0.0f;
+      a_values[1 + 2 * k] = even ? x_k : 0.0f;
+      a_values[2 + 2 * k] = x_k;
+    }
+  }
   film.add_sample(x, y, values);
 }
 
-void Renderer::feature_values(const Film& film, int x, int y, const FirstHit& first, const Vec3& camera_direction,
-                              float* values) const {
-  const size_t nc = channels_.size();
-  // The half-buffers: the sample's beauty in the even channel when its index is even, else 0; the
-  // odd half is the whole minus the even (write_features).
-  const bool even = (film.first_sample() + film.count(x, y)) % 2 == 0;
-  for (size_t c = 0; c < nc; ++c) values[2 * nc + c] = even ? values[c] : 0.0f;
-  float* f = values + 3 * nc;
+void Renderer::feature_values(const FirstHit& first, const Vec3& camera_direction, float* f) const {
   for (int i = 0; i < kFeatureSlots; ++i) f[i] = 0.0f;
   if (!first.hit) {
     f[kSun] = 1.0f;
@@ -203,20 +264,6 @@ void Renderer::feature_values(const Film& film, int x, int y, const FirstHit& fi
   f[kLeaf + static_cast<int>(first.feature_class) - 1] = 1.0f;  // kLeaf, kBark, kGround
 }
 
-namespace {
-
-// User + system processor time of the whole process so far.
-double process_cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  const auto seconds = [](const timeval& t) {
-    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
-  };
-  return seconds(u.ru_utime) + seconds(u.ru_stime);
-}
-
-}  // namespace
-
 BvhBuild bvh_build_for(const RenderSettings& settings) {
   return bvh_build_for(uint64_t(std::max(settings.width, 0)) * uint64_t(std::max(settings.height, 0)) *
                        uint64_t(std::max(settings.spp, 0)));
@@ -224,73 +271,6 @@ BvhBuild bvh_build_for(const RenderSettings& settings) {
 
 RenderStats Renderer::render(Film& film) {
   return render(film, film.window(), SampleRange{film.first_sample(), static_cast<uint32_t>(settings_.spp)});
-}
-
-RenderStats Renderer::render(Film& film, const PixelRegion& region, SampleRange samples) {
-  check_film(film);
-  if (!film.window().contains(region))
-    throw Error(fmt::format("region [{}, {}) x [{}, {}) is not inside the film's window", region.x0, region.x1,
-                            region.y0, region.y1));
-  RenderStats stats;
-  stats.embree = embree_.stats();
-  const auto start = std::chrono::steady_clock::now();
-  const double cpu_start = process_cpu_seconds();
-  const uint32_t target = samples.end;
-  // A pixel's next sample index; it renders [next, target).
-  const auto next_sample = [&](int x, int y) { return film.first_sample() + film.count(x, y); };
-  uint64_t remaining = 0;
-  for (int y = region.y0; y < region.y1; ++y)
-    for (int x = region.x0; x < region.x1; ++x) {
-      const uint32_t next = next_sample(x, y);
-      if (next < samples.first)
-        throw Error(fmt::format("pixel ({}, {}) has samples up to {}, so samples from {} on cannot follow in order", x,
-                                y, next, samples.first));
-      remaining += target - std::min(target, next);
-    }
-  if (region.empty()) return stats;
-
-  Progress progress("render", remaining, settings_.progress, "samples", settings_.on_progress);
-  tbb::enumerable_thread_specific<uint64_t> rays(0), samples_added(0);
-  std::atomic<bool> stopped{false};
-  const int ts = settings_.tile_size;
-  const int tiles_x = (region.width() + ts - 1) / ts, tiles_y = (region.height() + ts - 1) / ts;
-  tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, tiles_x * tiles_y, 1),
-        [&](const tbb::blocked_range<int>& range) {
-          for (int tile = range.begin(); tile != range.end(); ++tile) {
-            const int x0 = region.x0 + (tile % tiles_x) * ts, y0 = region.y0 + (tile / tiles_x) * ts;
-            const int x1 = std::min(x0 + ts, region.x1), y1 = std::min(y0 + ts, region.y1);
-            uint64_t& tile_rays = rays.local();
-            uint64_t added = 0;
-            for (int y = y0; y < y1; ++y)
-              for (int x = x0; x < x1; ++x) {
-                // Stop between pixels; each pixel keeps whole samples, in order.
-                if (settings_.cancel && settings_.cancel->load(std::memory_order_relaxed)) {
-                  stopped = true;
-                  samples_added.local() += added;
-                  progress.add(added);
-                  return;
-                }
-                const uint32_t next = next_sample(x, y);
-                if (next >= target) continue;
-                render_pixel(film, x, y, next, target, tile_rays);
-                added += target - next;
-              }
-            samples_added.local() += added;
-            progress.add(added);
-          }
-        },
-        tbb::simple_partitioner());
-  });
-  progress.finish();
-  stats.interrupted = stopped.load();
-  stats.rays = rays.combine(std::plus<>());
-  stats.samples = samples_added.combine(std::plus<>());
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  stats.cpu_seconds = process_cpu_seconds() - cpu_start;
-  return stats;
 }
 
 Image Renderer::make_image(const Film& film) const {
@@ -315,6 +295,9 @@ Image Renderer::make_image(const Film& film) const {
   add("id.object", PixelType::UInt);
   add("id.class", PixelType::UInt);
   add("id.variant", PixelType::UInt);
+  // The samples each pixel took, where they vary (adaptive sampling, a progressive render).
+  const bool spp_channel = adaptive() || progressive();
+  if (spp_channel) add("spp", PixelType::UInt);
   const int first_feature = static_cast<int>(names.size());
   if (settings_.features) {
     for (const char* half : {"even.", "odd."})
@@ -338,9 +321,9 @@ Image Renderer::make_image(const Film& film) const {
       for (int x = window.x0; x < window.x1; ++x) {
         const int ix = x - window.x0;
         for (size_t c = 0; c < nc; ++c) {
-          image.at(ix, iy, static_cast<int>(c)) = static_cast<float>(film.mean(x, y, static_cast<int>(c)));
+          image.at(ix, iy, static_cast<int>(c)) = static_cast<float>(channel_mean(film, x, y, static_cast<int>(c)));
           image.at(ix, iy, static_cast<int>(nc + c)) =
-              static_cast<float>(film.variance_of_mean(x, y, static_cast<int>(c)));
+              static_cast<float>(channel_variance_of_mean(film, x, y, static_cast<int>(c)));
           image.at(ix, iy, static_cast<int>(2 * nc + c)) =
               static_cast<float>(film.mean(x, y, static_cast<int>(nc + c)));
         }
@@ -365,6 +348,7 @@ Image Renderer::make_image(const Film& film) const {
           // The sky: a point 10¹⁰ m along the ray, like Z.
           for (int i = 0; i < 3; ++i) image.at(ix, iy, z + 4 + i) = ray.origin[i] + 1e10f * ray.direction[i];
         }
+        if (spp_channel) image.at(ix, iy, first_feature - 1) = static_cast<float>(film.count(x, y));
         if (settings_.features) write_features(image, film, x, y, first_feature);
       }
     });
@@ -375,10 +359,12 @@ Image Renderer::make_image(const Film& film) const {
 void Renderer::write_features(Image& image, const Film& film, int x, int y, int first_channel) const {
   const PixelRegion& window = film.window();
   const int ix = x - window.x0, iy = y - window.y0, nc = static_cast<int>(channels_.size());
-  const uint64_t n = film.count(x, y), n_even = (n + 1) / 2, n_odd = n / 2;  // a whole film starts at sample 0
+  // A whole film starts at sample 0, so it has ⌈n/2⌉ even samples; adaptive: stream 0's.
+  const uint64_t n = film.count(x, y), n_even = adaptive() ? stream0_count(film, x, y) : (n + 1) / 2;
+  const uint64_t n_odd = n - n_even;
   int out = first_channel;
   for (int c = 0; c < nc; ++c) {
-    const double sum = film.sum(x, y, c), even = film.sum(x, y, 2 * nc + c);
+    const double sum = film.sum(x, y, c), even = film.sum(x, y, even_channel(static_cast<size_t>(c)));
     image.at(ix, iy, out + c) = n_even ? static_cast<float>(even / static_cast<double>(n_even)) : 0.0f;
     image.at(ix, iy, out + nc + c) = n_odd ? static_cast<float>((sum - even) / static_cast<double>(n_odd)) : 0.0f;
   }

@@ -2,8 +2,8 @@
 // Rendering a Scene into a Film, and a Film into an Image (EXR channels).
 //
 // A render covers a region of the image and a range of sample indices; work is split into square
-// tiles rendered in parallel with TBB. Every sample's random numbers come from a PCG32 stream hashed
-// from (seed, pixel, sample index), and each pixel's samples are accumulated in order by one thread
+// tiles rendered in parallel with TBB. Every sample's random numbers depend on (seed, pixel, sample
+// index) alone (core/sampler.h), and each pixel's samples are accumulated in order by one thread
 // (render/film.h), so the result is bit-identical at any thread count, whether or not the render
 // was interrupted and resumed, and when it is split into regions or sample ranges whose films are
 // merged (Film::merge).
@@ -28,6 +28,9 @@ struct RenderSettings {
   int height = 360;
   int spp = 64;  // samples per pixel to reach
   uint64_t seed = 1;
+  // The pixel samples' random numbers (core/sampler.h): Owen-scrambled Sobol' points, or
+  // independent PCG32 draws (every render before issue 41; `sampler = "independent"`).
+  SamplerKind sampler = SamplerKind::kSobol;
   int threads = 0;  // 0 = all hardware threads
   int tile_size = 16;
   std::vector<Band> bands;  // at least one
@@ -41,6 +44,20 @@ struct RenderSettings {
   EmbreeIsa isa = EmbreeIsa::kAvx2;
   bool progress = true;      // progress bar on stderr (only when stderr is a terminal)
   ProgressSink on_progress;  // told the samples done and left (Progress), with or without a bar
+  // Adaptive sampling (docs/sampling.md, "Adaptive sampling"): 0 = off; else the relative standard
+  // error each pixel's mean should reach in every channel of noise_channels (every band channel if
+  // empty). Every pixel takes pilot_spp samples (even, ≥ 4), then as many more as its estimated
+  // error asks, up to spp. Renders in passes (progressive).
+  float noise_threshold = 0;
+  std::vector<std::string> noise_channels;
+  int pilot_spp = 16;
+  // Render in passes of doubling sample counts, every pixel reaching one count before any goes on to
+  // the next, so a render stopped early (a time limit) has its samples spread over the whole image.
+  // The same bits as one pass: each pixel's samples are still added in index order.
+  bool progressive = false;
+  // Stop after this many seconds of rendering (0 = none): RenderSession ends the render there as
+  // complete, each pixel with the samples it has; implies progressive.
+  double time_limit_s = 0;
   // Set asynchronously (e.g. by SIGINT) to stop early; every pixel keeps the samples it finished.
   const std::atomic<bool>* cancel = nullptr;
 };
@@ -141,13 +158,31 @@ class Renderer {
   Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const EmbreeScene* shared, RenderSettings settings,
            const TransportFaults& faults);
   void check_film(const Film& film) const;
-  void render_pixel(Film& film, int x, int y, uint32_t first_sample, uint32_t end_sample, uint64_t& rays) const;
-  // One path's radiance and first hit, weighted into the channels and added to pixel (x, y).
-  void add_sample(Film& film, int x, int y, const SampledWavelengths& wl, SampledSpectrum L, const FirstHit& first,
-                  const Vec3& camera_direction) const;
+  // Renders samples [first, end) of pixel (x, y): of its one sequence (stream kAllSamples: sample
+  // index = position in the sequence) or of adaptive sampling's stream 0 or 1 (sample j of the stream).
+  static constexpr int kAllSamples = -1;
+  void render_pixel(Film& film, int x, int y, int stream, uint32_t first, uint32_t end, uint64_t& rays) const;
+  // One path's radiance and first hit, weighted into the channels and added to pixel (x, y): sample
+  // `index` of `stream`.
+  void add_sample(Film& film, int x, int y, int stream, uint32_t index, const SampledWavelengths& wl, SampledSpectrum L,
+                  const FirstHit& first, const Vec3& camera_direction) const;
   // The feature values of one sample (settings.features) after its band and albedo values.
-  void feature_values(const Film& film, int x, int y, const FirstHit& first, const Vec3& camera_direction,
-                      float* values) const;
+  void feature_values(const FirstHit& first, const Vec3& camera_direction, float* features) const;
+  // Adaptive sampling (settings.noise_threshold > 0; renderer_adaptive.cpp).
+  bool adaptive() const { return settings_.noise_threshold > 0; }
+  // The film holds each band channel's sum over the even samples (stream 0 when adaptive).
+  bool has_even_channels() const { return settings_.features || adaptive(); }
+  bool progressive() const { return settings_.progressive || settings_.time_limit_s > 0; }
+  int even_channel(size_t c) const { return static_cast<int>(2 * channels_.size() + c); }
+  // Stream 0's sample count of pixel (x, y), and the samples stream `stream` should reach: decided
+  // from the other stream's pilot samples alone (docs/sampling.md).
+  uint32_t stream0_count(const Film& film, int x, int y) const;
+  uint32_t stream_target(const Film& film, int x, int y, int stream) const;
+  // The pixel mean of band channel c, and its variance: (mean₀ + mean₁)/2 of the two streams when
+  // adaptive, else the mean over all samples.
+  double channel_mean(const Film& film, int x, int y, int c) const;
+  double channel_variance_of_mean(const Film& film, int x, int y, int c) const;
+  RenderStats render_passes(Film& film, const PixelRegion& region, SampleRange samples);
   // make_image's feature channels of pixel (x, y), from channel `first_channel` of the image on.
   void write_features(Image& image, const Film& film, int x, int y, int first_channel) const;
 
@@ -171,6 +206,13 @@ class Renderer {
   // integral is 0, which normalises the albedo AOV) and whether it is not 0.
   std::vector<Vec4> scale_blocks_, albedo_norm_blocks_;
   std::vector<glm::bvec4> has_albedo_blocks_;
+  // Adaptive sampling's film channels after the others: stream 0's sample count, then per noise
+  // channel its sums over the pilot samples of stream 0 and of both streams. noise_channels_: the
+  // band channels the threshold applies to; noise_floor_: the squared radiance (or reflectance)
+  // below which a pixel's error counts as absolute, 1 % of a white Lambertian's.
+  int adaptive_base_ = 0;
+  std::vector<int> noise_channels_;
+  std::vector<double> noise_floor_;
 };
 
 }  // namespace sylva

@@ -89,8 +89,13 @@ std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& 
   std::string key = fmt::format("sylva {} scene {} seed {} res {}x{} depth {} bands", SYLVA_VERSION, scene_hash,
                                 settings.seed, settings.width, settings.height, settings.integrator.max_depth);
   for (const Band& b : settings.bands) key += " " + b.name;
+  key += fmt::format(" sampler {}", sampler_name(settings.sampler));
   if (settings.quantity != Quantity::radiance) key += fmt::format(" quantity {}", quantity_name(settings.quantity));
   if (settings.features) key += " features";
+  if (settings.noise_threshold > 0) {
+    key += fmt::format(" adaptive {:a} pilot {}", static_cast<double>(settings.noise_threshold), settings.pilot_spp);
+    for (const auto& c : settings.noise_channels) key += " " + c;
+  }
   return key;
 }
 
@@ -138,12 +143,16 @@ SessionResult RenderSession::run() {
   result.stats.embree = renderer_.embree_stats();
   // Periodic checkpoints only make sense with somewhere to write them.
   const double period = options_.checkpoint.empty() ? 0.0 : options_.checkpoint_minutes;
+  const double limit = renderer_.settings().time_limit_s;
   while (true) {
     // An interrupt that came before the round stops it at once (the watcher polls only every 50 ms).
     stop_ = options_.interrupt && options_.interrupt->load();
+    // The round ends at the next checkpoint or at the time limit, whichever comes first.
+    const double left = limit > 0 ? limit - result.stats.seconds : 0.0;
+    const bool limit_first = limit > 0 && (period <= 0 || left < 60.0 * period);
     RenderStats round;
     {
-      const StopWatcher watcher(stop_, options_.interrupt, period);
+      const StopWatcher watcher(stop_, options_.interrupt, limit_first ? std::max(left, 1e-3) / 60.0 : period);
       round = renderer_.render(film_);
     }
     result.stats.samples += round.samples;
@@ -151,6 +160,10 @@ SessionResult RenderSession::run() {
     result.stats.seconds += round.seconds;
     result.stats.cpu_seconds += round.cpu_seconds;
     if (!round.interrupted) break;
+    if (limit_first && !(options_.interrupt && options_.interrupt->load())) {
+      result.time_limited = true;
+      break;
+    }
     const bool interrupted = options_.interrupt && options_.interrupt->load();
     if (!options_.checkpoint.empty()) {
       try {

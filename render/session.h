@@ -72,9 +72,10 @@ struct SessionOptions {
 
 struct SessionResult {
   Film film;
-  RenderStats stats;         // summed over the rounds of this run (seconds: rendering only)
-  bool interrupted = false;  // stopped by `interrupt` before the film was complete (checkpointed)
-  int checkpoints = 0;       // checkpoints written
+  RenderStats stats;          // summed over the rounds of this run (seconds: rendering only)
+  bool interrupted = false;   // stopped by `interrupt` before the film was complete (checkpointed)
+  bool time_limited = false;  // stopped by settings.time_limit_s: the film is the render's result
+  int checkpoints = 0;        // checkpoints written
 };
 
 // The checkpoint of a render writing `output`: beside it, "<output name>.checkpoint". A name that
@@ -83,7 +84,7 @@ struct SessionResult {
 std::filesystem::path checkpoint_path_for(const std::filesystem::path& output);
 
 // What a checkpoint of this render must match: everything that changes the samples (Sylva's
-// version, the scene's content hash, seed, resolution, depth and band names).
+// version, the scene's content hash, seed, resolution, depth, band names and sampler).
 std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& settings);
 
 class RenderSession {
@@ -100,9 +101,10 @@ class RenderSession {
   // Samples in the film the session starts from (a resumed checkpoint's; 0 for a fresh film).
   uint64_t resumed_samples() const { return resumed_samples_; }
 
-  // Renders in rounds until every pixel has settings.spp samples or the interrupt is set; writes a
-  // checkpoint after every round cut short (if options.checkpoint is set). Hands the film over:
-  // call once. Exceptions from rendering or checkpointing propagate.
+  // Renders in rounds until every pixel has settings.spp samples (or adaptive sampling's fewer), the
+  // interrupt is set or settings.time_limit_s seconds of rendering have passed in this run; writes a
+  // checkpoint after every round cut short by the period or the interrupt (if options.checkpoint is
+  // set). Hands the film over: call once. Exceptions from rendering or checkpointing propagate.
   SessionResult run();
 
   // Removes the checkpoint file (call once the outputs are written).

@@ -108,6 +108,7 @@ void annotate_render(Image& image, const SceneFile& file, const RenderSettings& 
   image.set_attribute("sylva:version", SYLVA_VERSION);
   image.set_attribute("sylva:spp", std::to_string(settings.spp));
   image.set_attribute("sylva:seed", std::to_string(settings.seed));
+  image.set_attribute("sylva:sampler", sampler_name(settings.sampler));
   image.set_attribute("sylva:scene", file.path.empty() ? "<default scene>" : file.path.filename().string());
   image.set_attribute("sylva:scene_hash", file.content_hash);
   image.set_attribute("sylva:max_depth", std::to_string(settings.integrator.max_depth));

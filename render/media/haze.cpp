@@ -110,11 +110,11 @@ SampledSpectrum Haze::transmittance(const Vec3& o, const Vec3& d, float t, const
   return out;
 }
 
-float Haze::sample_scattering(const Vec3& o, const Vec3& d, float t_max, const SampledWavelengths& wl, Pcg32& rng,
+float Haze::sample_scattering(const Vec3& o, const Vec3& d, float t_max, const SampledWavelengths& wl, float u,
                               SampledSpectrum& beta, SampledSpectrum& ratio) const {
   const SampledSpectrum k = spectral_factor(wl);
   // The first carried wavelength's free flight, by inverting τ₀ exactly.
-  const double tau = -std::log(1.0 - static_cast<double>(rng.uniform())) / k[0];
+  const double tau = -std::log(1.0 - static_cast<double>(u)) / k[0];
   const double s = distance_at_depth(o, d, 0.0, tau);
   const bool collided = s < t_max;
   const double tau0 = collided ? tau : optical_depth(o, d, 0.0, t_max);

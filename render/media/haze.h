@@ -70,7 +70,8 @@ class Haze {
   // density for wavelength j over the hero's, kept at mean 1; start it at 1) is updated. Bounded
   // weights (≤ 4ω/r), no null collisions. Averaged over the hero's place, E[beta·1{passage}] =
   // exp(−k τ₀) per wavelength and the collision density is ω k σ₀ exp(−k τ₀).
-  float sample_scattering(const Vec3& o, const Vec3& d, float t_max, const SampledWavelengths& wl, Pcg32& rng,
+  // `u` is uniform in [0, 1).
+  float sample_scattering(const Vec3& o, const Vec3& d, float t_max, const SampledWavelengths& wl, float u,
                           SampledSpectrum& beta, SampledSpectrum& ratio) const;
 
  private:

@@ -18,7 +18,8 @@ static InstanceLevel parse_instancing(const Params& t) {
 
 void parse_render(const Params& root, SceneBuilder& b) {
   const Params* t = root.table("render");
-  t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing", "isa"});
+  t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing", "isa", "sampler",
+                 "noise_threshold", "noise_channels", "pilot_spp", "time_limit"});
   SceneFile& out = b.file();
   RenderSettings& rs = out.render;
   rs.width = static_cast<int>(t->integer("width", rs.width, 1, 65536));
@@ -37,6 +38,15 @@ void parse_render(const Params& root, SceneBuilder& b) {
   if (quantity != "radiance" && quantity != "reflectance")
     t->fail("quantity", "quantity must be \"radiance\" or \"reflectance\"");
   rs.quantity = parse_quantity(quantity);
+  const std::string sampler = t->string("sampler", sampler_name(rs.sampler));
+  if (sampler != "sobol" && sampler != "independent")
+    t->fail("sampler", "sampler must be \"sobol\" (the default) or \"independent\"");
+  rs.sampler = sampler == "sobol" ? SamplerKind::kSobol : SamplerKind::kIndependent;
+  rs.noise_threshold = static_cast<float>(t->real("noise_threshold", rs.noise_threshold, 0.0, 0.999));
+  if (t->has("noise_channels")) rs.noise_channels = t->strings("noise_channels");
+  rs.pilot_spp = static_cast<int>(t->integer("pilot_spp", rs.pilot_spp, 4, 1 << 24));
+  if (rs.pilot_spp % 2 != 0) t->fail("pilot_spp", "pilot_spp must be even (half of it in each of two streams)");
+  rs.time_limit_s = t->real("time_limit", rs.time_limit_s, 0.0, 1e9);
   if (t->has("isa")) {
     try {
       rs.isa = parse_embree_isa(t->string("isa", embree_isa_name(rs.isa)));

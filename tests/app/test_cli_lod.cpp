@@ -101,10 +101,16 @@ TEST(CliLod, DistantRowsMatchTheFullForest) {
 
   // The top 48 rows: trees beyond ~35 m, r2 ≥ 240 (levels 1–3).
   const Image a = rows(read_exr(dir / "lod.exr"), 0, 48), b = rows(read_exr(dir / "full.exr"), 0, 48);
+  // Per pixel the two are indistinguishable; the means differ by the levels' residual bias, which
+  // the Sobol' sampler resolves: green +0.5 to +0.9 % (mean-bias z 2 to 4 at 32 spp; docs/lod.md),
+  // bounded here at 1.2 % (the first-masses rule gave +5 to +7 %, one leaf in eight +1.4 %).
   CompareOptions options;
   options.channels = {"R", "G", "B"};
+  options.bias_alpha = 0;
   const CompareResult result = compare_images(a, b, options);
   EXPECT_TRUE(result.passed) << format_compare_summary(result);
+  for (const ChannelReport& c : result.channels)
+    EXPECT_LT(std::abs(c.mean_rel_diff), 0.012) << c.name << "\n" << format_compare_summary(result);
 }
 
 // `sylva tree --lod`: one row per level, each cheaper in BVH memory than the one before, the leaf

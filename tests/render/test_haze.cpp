@@ -100,7 +100,7 @@ TEST(Haze, FreeFlightFollowsBeerLambert) {
       SampledWavelengths rotated;
       for (int k = 0; k < kLambdaCount; ++k) rotated.lambda_nm[k] = wl.lambda_nm[(k + hero) % kLambdaCount];
       SampledSpectrum beta(1.0f), ratio(1.0f);
-      const float s = haze.sample_scattering(c.o, c.d, c.t, rotated, rng, beta, ratio);
+      const float s = haze.sample_scattering(c.o, c.d, c.t, rotated, rng.uniform(), beta, ratio);
       EXPECT_NEAR(average(ratio), 1.0f, 1e-5f);
       if (s < c.t) continue;
       for (int k = 0; k < kLambdaCount; ++k) {

@@ -200,9 +200,10 @@ void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& ori
     }
     std::vector<Pcg32> alone_rngs = rngs;
     std::vector<FirstHit> firsts(static_cast<size_t>(n)), alone_firsts(static_cast<size_t>(n));
+    std::vector<PathSampler> samplers(rngs.begin(), rngs.end());  // independent draws from rngs
     std::vector<PathState> paths;
     for (int k = 0; k < n; ++k)
-      paths.emplace_back(rays_in[size_t(k)], wls[size_t(k)], rngs[size_t(k)], &firsts[size_t(k)]);
+      paths.emplace_back(rays_in[size_t(k)], wls[size_t(k)], samplers[size_t(k)], &firsts[size_t(k)]);
     uint64_t batched_rays = 0;
     integrator.trace_paths(paths, batched_rays);
     uint64_t alone_rays = 0;
@@ -223,8 +224,9 @@ void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& ori
   EXPECT_GT(nonzero, static_cast<int>(origins.size()) / 2) << "the paths must gather light";
   // More paths than the batch holds: an error, not an overflow.
   Pcg32 rng(5);
-  std::vector<PathState> too_many(Integrator::kMaxPaths + 1,
-                                  PathState(Ray{origins[0], Vec3(0, 0, -1)}, sampler.sample(0.5f), rng, nullptr));
+  PathSampler path_sampler(rng);
+  std::vector<PathState> too_many(Integrator::kMaxPaths + 1, PathState(Ray{origins[0], Vec3(0, 0, -1)},
+                                                                       sampler.sample(0.5f), path_sampler, nullptr));
   uint64_t rays = 0;
   EXPECT_THROW(integrator.trace_paths(too_many, rays), Error);
 }
