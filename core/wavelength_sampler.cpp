@@ -127,7 +127,8 @@ glm::vec4 WavelengthSampler::Inversion::sample4(const float* u) const {
   const __m128 du = _mm_min_ps(_mm_max_ps(_mm_setzero_ps(), _mm_div_ps(_mm_sub_ps(uk, lo), mass)), _mm_set1_ps(1.0f));
   // lo_nm + bin is a whole number of nm, exact in float; λ stays below the bin's upper edge, so
   // pdf(λ) finds this bin.
-  const __m128 edge = _mm_add_ps(_mm_set1_ps(lo_nm), _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<__m128i*>(bin_k))));
+  const __m128 edge =
+      _mm_add_ps(_mm_set1_ps(lo_nm), _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<__m128i*>(bin_k))));
   const __m128 below_next =
       _mm_castsi128_ps(_mm_sub_epi32(_mm_castps_si128(_mm_add_ps(edge, _mm_set1_ps(1.0f))), _mm_set1_epi32(1)));
   // std::min(edge + du, below_next): below_next where it is less, as minps(below_next, x) gives.
@@ -146,8 +147,7 @@ WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
   for (const auto& group : groups) {
     std::vector<float> w(kLambdaSamples - 1, 0.0f);
     for (const size_t b : group)
-      for (int i = 0; i + 1 < kLambdaSamples; ++i)
-        w[i] += 0.5f * (bands[b].importance[i] + bands[b].importance[i + 1]);
+      for (int i = 0; i + 1 < kLambdaSamples; ++i) w[i] += 0.5f * (bands[b].importance[i] + bands[b].importance[i + 1]);
     groups_.emplace_back(std::move(w));
   }
   // Blocks: kLambdaBlocks / G each, one more for each of the first kLambdaBlocks mod G groups.

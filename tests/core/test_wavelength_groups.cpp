@@ -70,9 +70,11 @@ TEST(WavelengthGroups, EachGroupOwnsWholeBlocks) {
 // (structure from 300 to 2500 nm): |z| < 4.5 (about 7·10⁻⁶ per test of a false alarm).
 TEST(WavelengthGroups, EveryChannelIsUnbiased) {
   const DenseSpectrum& f = astm_g173_global();
-  const std::vector<std::vector<std::string>> sets = {
-      {"rgb"}, {"rgb", "nir"}, {"rgb", "S2A_B4"}, {"rgb", "nir", "S2A_B4", "S2A_B8"},
-      {"rgb", "nir", "S2A_B4", "S2A_B8", "S2A_B11", "S2A_B12"}};
+  const std::vector<std::vector<std::string>> sets = {{"rgb"},
+                                                      {"rgb", "nir"},
+                                                      {"rgb", "S2A_B4"},
+                                                      {"rgb", "nir", "S2A_B4", "S2A_B8"},
+                                                      {"rgb", "nir", "S2A_B4", "S2A_B8", "S2A_B11", "S2A_B12"}};
   uint64_t seed = 1;
   for (const auto& names : sets) {
     const std::vector<Band> bands = bands_of(names);
