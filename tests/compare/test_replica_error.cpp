@@ -17,6 +17,12 @@
 namespace sylva {
 namespace {
 
+#ifdef SYLVA_REPLICA_ERROR_TOOL
+constexpr const char* kTool = SYLVA_REPLICA_ERROR_TOOL;
+#else
+constexpr const char* kTool = nullptr;  // the benchmarks are not built (SYLVA_BUILD_BENCH=OFF)
+#endif
+
 class ReplicaError : public test::TempDirTest {
  protected:
   // Three 2×1 replicas. Pixel 0 is class 20 (a "tree"), pixel 1 class 1 (terrain).
@@ -41,7 +47,7 @@ class ReplicaError : public test::TempDirTest {
   // Runs the tool with ARGS before the three replicas; its "key value" lines (empty on failure).
   std::map<std::string, double> run(const std::string& args) const {
     const std::string out = (dir_ / "out.txt").string();
-    std::string cmd = fmt::format("{} {}", SYLVA_REPLICA_ERROR_TOOL, args);
+    std::string cmd = fmt::format("{} {}", kTool, args);
     for (int k = 0; k < 3; ++k) cmd += fmt::format(" '{}'", replica(k).string());
     std::map<std::string, double> values;
     if (std::system(fmt::format("{} > '{}'", cmd, out).c_str()) != 0) return values;
@@ -57,7 +63,7 @@ const double kPixel1 = std::sqrt((3.0 / 121.0 + 0 + 0) / 3);  // R: √3 / 11
 const double kPixel0Var = std::sqrt((0.01 / 4 + 0.01 / 4 + 0.01 / 16) / 3);
 
 TEST_F(ReplicaError, MedianOverTheClassMask) {
-#ifdef SYLVA_REPLICA_ERROR_TOOL
+  if (kTool == nullptr) GTEST_SKIP() << "the benchmarks are not built (SYLVA_BUILD_BENCH=OFF)";
   std::map<std::string, double> v = run("--classes 20,99");
   ASSERT_FALSE(v.empty());
   EXPECT_EQ(v["pixels"], 1);
@@ -78,13 +84,10 @@ TEST_F(ReplicaError, MedianOverTheClassMask) {
 
   v = run("--channels R --classes 1");
   EXPECT_NEAR(v["median"], std::sqrt(3.0) / 11, 1e-5);
-#else
-  GTEST_SKIP() << "the benchmarks are not built (SYLVA_BUILD_BENCH=OFF)";
-#endif
 }
 
 TEST_F(ReplicaError, SppMapAndErrors) {
-#ifdef SYLVA_REPLICA_ERROR_TOOL
+  if (kTool == nullptr) GTEST_SKIP() << "the benchmarks are not built (SYLVA_BUILD_BENCH=OFF)";
   const std::filesystem::path png = dir_ / "spp.png";
   ASSERT_FALSE(run("--spp-png '" + png.string() + "'").empty());
   const Image map = read_exr(png);  // any format OpenImageIO or libpng reads
@@ -99,11 +102,8 @@ TEST_F(ReplicaError, SppMapAndErrors) {
   EXPECT_EQ(scaled.height, 3);
   EXPECT_EQ(scaled.at(8, 2, 0), map.at(2, 0, 0));
   EXPECT_TRUE(run("--channels nir.Y").empty());  // no such channel: exit 2
-  const std::string one = fmt::format("{} '{}' 2>/dev/null", SYLVA_REPLICA_ERROR_TOOL, replica(0).string());
+  const std::string one = fmt::format("{} '{}' 2>/dev/null", kTool, replica(0).string());
   EXPECT_NE(std::system(one.c_str()), 0);  // a single replica has no spread
-#else
-  GTEST_SKIP() << "the benchmarks are not built (SYLVA_BUILD_BENCH=OFF)";
-#endif
 }
 
 }  // namespace
