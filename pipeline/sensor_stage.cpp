@@ -71,7 +71,7 @@ uint64_t sensor_noise_seed(const SensorParams& params, const RenderSettings& set
 }
 
 SensedImage run_sensor_stage(const SceneFile& file, const RenderSettings& settings, const Image& image,
-                       const std::filesystem::path& exr, const std::filesystem::path& png) {
+                             const std::filesystem::path& exr, const std::filesystem::path& png) {
   if (!file.sensor) return {};
   const SensorParams& params = *file.sensor;
   SensedImage sensed = apply_sensor(image, sensor_channels(settings), params, sensor_geometry(file, settings),

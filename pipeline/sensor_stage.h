@@ -31,7 +31,7 @@ uint64_t sensor_noise_seed(const SensorParams& params, const RenderSettings& set
 // Applies the scene's [sensor] to `image` (the render's annotated image) and, when `exr` is not
 // empty, writes its outputs. Returns the sensed image (its image empty without [sensor]).
 SensedImage run_sensor_stage(const SceneFile& file, const RenderSettings& settings, const Image& image,
-                       const std::filesystem::path& exr, const std::filesystem::path& png);
+                             const std::filesystem::path& exr, const std::filesystem::path& png);
 
 // The PNG of a sensed image: its digital numbers over the ADC's full scale, sRGB-encoded (the
 // visible channels, else the first as grey).

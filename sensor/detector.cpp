@@ -13,9 +13,9 @@ namespace sylva {
 
 namespace {
 
-constexpr double kPlanck = 6.62607015e-34;     // J·s
-constexpr double kLight = 299792458.0;         // m/s
-constexpr double kBoltzmann = 1.380649e-23;    // J/K
+constexpr double kPlanck = 6.62607015e-34;   // J·s
+constexpr double kLight = 299792458.0;       // m/s
+constexpr double kBoltzmann = 1.380649e-23;  // J/K
 
 // The kinds of random number per detector.
 enum Kind : uint64_t { kPrnu = 1, kDsnu, kFpn, kNuc, kShot, kRead, kNetd };
@@ -124,7 +124,8 @@ std::vector<float> detect_channel(const std::vector<float>& radiance, int width,
         continue;
       }
       const double prnu = 1.0 + d.prnu * hashed_normal(key_of(fixed, channel_index, i, kPrnu));
-      const double dark = d.dark_current_e_per_s * time_s + d.dsnu_e * hashed_normal(key_of(fixed, channel_index, i, kDsnu));
+      const double dark =
+          d.dark_current_e_per_s * time_s + d.dsnu_e * hashed_normal(key_of(fixed, channel_index, i, kDsnu));
       const double mean_e = std::max(0.0, cal.electrons_per_radiance * std::max(0.0, l) * prnu + dark);
       double e = d.shot_noise ? hashed_poisson(key_of(noise_seed, channel_index, i, kShot), mean_e) : mean_e;
       e = std::min(e, d.full_well_e) + d.read_noise_e * hashed_normal(key_of(noise_seed, channel_index, i, kRead));

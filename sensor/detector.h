@@ -18,11 +18,11 @@ namespace sylva {
 // (the mean over a detector; the dark signal's mean is in dn_offset).
 struct ChannelCalibration {
   std::string channel;
-  double qe = 0;                        // the quantum efficiency used (0 for thermal channels)
-  double electrons_per_radiance = 0;    // e⁻ per unit radiance in the integration time (0: thermal)
+  double qe = 0;                      // the quantum efficiency used (0 for thermal channels)
+  double electrons_per_radiance = 0;  // e⁻ per unit radiance in the integration time (0: thermal)
   double radiance_per_dn = 0;
   double dn_offset = 0;
-  double saturation_radiance = 0;       // the radiance that reaches the full well or the ADC's top
+  double saturation_radiance = 0;  // the radiance that reaches the full well or the ADC's top
 };
 
 // Photo-electrons per second per unit channel radiance (W·m⁻²·sr⁻¹·nm⁻¹) on one detector: the

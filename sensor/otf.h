@@ -13,12 +13,12 @@ namespace sylva {
 
 // What the sensor model needs of a render channel: where its response lies.
 struct SensorChannel {
-  std::string name;                 // the EXR channel: "R", "nir.Y"
-  std::string band;                 // its band: "rgb", "nir"
-  double centre_nm = 550.0;         // response-weighted mean wavelength
+  std::string name;                    // the EXR channel: "R", "nir.Y"
+  std::string band;                    // its band: "rgb", "nir"
+  double centre_nm = 550.0;            // response-weighted mean wavelength
   double equivalent_width_nm = 100.0;  // ∫S / max S
-  std::vector<double> lambda_nm;    // samples of the positive response, for the polychromatic OTF
-  std::vector<double> weight;       // (sum 1)
+  std::vector<double> lambda_nm;       // samples of the positive response, for the polychromatic OTF
+  std::vector<double> weight;          // (sum 1)
 };
 
 // The channel's summary and ~16 samples of its positive response max(w, 0).

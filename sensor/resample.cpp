@@ -39,8 +39,8 @@ DetectorGrid make_detector_grid(int render_width, int render_height, double rati
   g.width = static_cast<int>(std::floor(render_width / ratio + 1e-9));
   g.height = static_cast<int>(std::floor(render_height / ratio + 1e-9));
   if (g.width < 1 || g.height < 1)
-    throw Error(fmt::format("the sensor's detectors ({:.3g} render pixels each) do not fit the {}x{} render",
-                            ratio, render_width, render_height));
+    throw Error(fmt::format("the sensor's detectors ({:.3g} render pixels each) do not fit the {}x{} render", ratio,
+                            render_width, render_height));
   g.x0 = (render_width - g.width * ratio) / 2;
   g.y0 = (render_height - g.height * ratio) / 2;
   return g;

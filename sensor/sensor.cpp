@@ -12,9 +12,7 @@
 
 namespace sylva {
 
-namespace {
-
-}  // namespace
+namespace {}  // namespace
 
 // The channel's radial OTF (every factor but the smear) tabulated over |f| in cycles per render
 // pixel, linear between entries, and the smear's sinc along x: the filter evaluates it at every
@@ -134,9 +132,9 @@ SensedImage apply_sensor(const Image& radiance, const std::vector<SensorChannel>
   for (int c = 0; c < n; ++c) {
     const SensorChannel& channel = channels[static_cast<size_t>(c)];
     out.calibration.push_back(calibrate_channel(params, channel, out.integration_time_s));
-    const std::vector<float> dn = detect_channel(optical[static_cast<size_t>(c)], out.grid.width, out.grid.height, c,
-                                                 params, out.calibration.back(), channel, out.integration_time_s,
-                                                 noise_seed);
+    const std::vector<float> dn =
+        detect_channel(optical[static_cast<size_t>(c)], out.grid.width, out.grid.height, c, params,
+                       out.calibration.back(), channel, out.integration_time_s, noise_seed);
     out.image.types[static_cast<size_t>(c)] = PixelType::UInt;
     for (int y = 0; y < out.grid.height; ++y)
       for (int x = 0; x < out.grid.width; ++x) {

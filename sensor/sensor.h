@@ -34,10 +34,10 @@ struct SensedImage {
   std::vector<ChannelCalibration> calibration;  // per channel, in order
   double integration_time_s = 0;
   uint64_t noise_seed = 0;
-  double ifov_rad = 0;          // one detector's angle (0 when the geometry is unknown)
-  double gsd_m = 0;             // ifov × distance (0 when unknown)
-  double focal_length_mm = 0;   // pitch / ifov (0 when unknown)
-  double seconds = 0;           // the stage's wall time
+  double ifov_rad = 0;         // one detector's angle (0 when the geometry is unknown)
+  double gsd_m = 0;            // ifov × distance (0 when unknown)
+  double focal_length_mm = 0;  // pitch / ifov (0 when unknown)
+  double seconds = 0;          // the stage's wall time
 };
 
 // Applies the sensor to `channels` of `radiance` (each must be a channel of it; radiance units).

@@ -63,8 +63,9 @@ void read_qe(const Params& t, DetectorParams& d) {
     return;
   }
   if (v->kind != ParamValue::Kind::Table)
-    t.fail_at(*v, "qe: expected a number in (0, 1] or a table of them by band or channel, e.g. { rgb = 0.6, nir = "
-                  "0.3 }");
+    t.fail_at(*v,
+              "qe: expected a number in (0, 1] or a table of them by band or channel, e.g. { rgb = 0.6, nir = "
+              "0.3 }");
   const Params& q = *v->table;
   d.qe_bands.clear();
   for (const std::string& name : q.names()) d.qe_bands.emplace_back(name, q.number(name, 0.5, 1e-4, 1.0));
@@ -93,8 +94,8 @@ void read_detector(const Params& t, DetectorParams& d) {
   if (d.thermal && !(d.temperature_max_k > d.temperature_min_k))
     t.fail("temperature_max_k", "temperature_max_k: expected a temperature above temperature_min_k");
   if (!d.thermal && d.offset_dn > std::ldexp(1.0, d.adc_bits) - 1)
-    t.fail("offset_dn", fmt::format("offset_dn: expected at most {} (adc_bits = {})",
-                                    std::ldexp(1.0, d.adc_bits) - 1, d.adc_bits));
+    t.fail("offset_dn",
+           fmt::format("offset_dn: expected at most {} (adc_bits = {})", std::ldexp(1.0, d.adc_bits) - 1, d.adc_bits));
 }
 
 }  // namespace

@@ -18,11 +18,11 @@ namespace sylva {
 // The optics' transfer function, in detector pitches (docs/sensors.md, "Optics").
 struct OpticsParams {
   double f_number = 2.8;
-  double obscuration = 0.0;     // central obscuration: its diameter over the aperture's, [0, 0.9]
-  double transmittance = 0.9;   // of the optics, in band
-  double defocus_px = 0.0;      // 1/e radius of the Gaussian defocus spot (IBSM eq. 3-25), pitches
-  double jitter_rms_px = 0.0;   // RMS line-of-sight jitter during the integration (IBSM eq. 3-28), pitches
-  double smear_px = 0.0;        // linear drift along x during the integration (IBSM eq. 3-29), pitches
+  double obscuration = 0.0;            // central obscuration: its diameter over the aperture's, [0, 0.9]
+  double transmittance = 0.9;          // of the optics, in band
+  double defocus_px = 0.0;             // 1/e radius of the Gaussian defocus spot (IBSM eq. 3-25), pitches
+  double jitter_rms_px = 0.0;          // RMS line-of-sight jitter during the integration (IBSM eq. 3-28), pitches
+  double smear_px = 0.0;               // linear drift along x during the integration (IBSM eq. 3-29), pitches
   std::filesystem::path otf_file;      // a radial OTF: cycles/mm at the focal plane, OTF (IBSM §3.2.6)
   std::vector<double> otf_cyc_per_mm;  // the file's table, ascending (empty: none)
   std::vector<double> otf_value;
@@ -45,8 +45,8 @@ struct DetectorParams {
   double full_well_e = 10500.0;
   double read_noise_e = 2.3;
   double dark_current_e_per_s = 5.0;
-  double prnu = 0.005;   // photo-response non-uniformity, RMS fraction of the signal
-  double dsnu_e = 1.0;   // dark-signal non-uniformity, RMS electrons
+  double prnu = 0.005;  // photo-response non-uniformity, RMS fraction of the signal
+  double dsnu_e = 1.0;  // dark-signal non-uniformity, RMS electrons
   double gain_e_per_dn = 2.56;
   double offset_dn = 16.0;  // black level
   int adc_bits = 12;
@@ -68,8 +68,8 @@ struct SensorParams {
   OpticsParams optics;
   SamplingParams sampling;
   DetectorParams detector;
-  uint64_t seed = 1;                    // the fixed patterns (PRNU, DSNU, FPN, NUC): fixed over frames
-  std::optional<uint64_t> noise_seed;   // temporal noise; default: hashed from the render's seed
+  uint64_t seed = 1;                   // the fixed patterns (PRNU, DSNU, FPN, NUC): fixed over frames
+  std::optional<uint64_t> noise_seed;  // temporal noise; default: hashed from the render's seed
 };
 
 // [sensor]: `preset = "NAME"` first (its values become the defaults), then every key; unknown keys,

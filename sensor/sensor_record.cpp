@@ -96,8 +96,8 @@ std::string sensor_json(const SensedImage& s, const SensorParams& p) {
   }
   j += "\n  },\n";
   j += fmt::format("  \"seed\": {},\n  \"noise_seed\": {},\n", p.seed, s.noise_seed);
-  j += fmt::format("  \"detectors\": [{}, {}],\n  \"render_pixels_per_detector\": {},\n", s.grid.width,
-                   s.grid.height, number(s.grid.ratio));
+  j += fmt::format("  \"detectors\": [{}, {}],\n  \"render_pixels_per_detector\": {},\n", s.grid.width, s.grid.height,
+                   number(s.grid.ratio));
   j += fmt::format("  \"integration_time_s\": {},\n  \"ifov_urad\": {},\n  \"gsd_m\": {},\n",
                    number(s.integration_time_s), number(s.ifov_rad * 1e6), number(s.gsd_m));
   j += fmt::format("  \"effective_focal_length_mm\": {},\n  \"calibration\": [", number(s.focal_length_mm));

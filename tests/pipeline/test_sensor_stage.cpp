@@ -43,10 +43,10 @@ class SensorStage : public test::TempDirTest {};
 TEST_F(SensorStage, KeepsThePreSensorRenderAndWritesTheSensedImageBesideIt) {
   RenderObserver quiet;
   const RenderResult plain = render_scene(sensor_options("", dir_ / "plain.exr"), quiet);
-  const RenderResult sensed = render_scene(
-      sensor_options("\n[sensor]\npreset = \"machine_vision_12bit\"\noversample = 2\nnoise_seed = 5\n", dir_ / "s.exr",
-                     dir_ / "s.png"),
-      quiet);
+  const RenderResult sensed =
+      render_scene(sensor_options("\n[sensor]\npreset = \"machine_vision_12bit\"\noversample = 2\nnoise_seed = 5\n",
+                                  dir_ / "s.exr", dir_ / "s.png"),
+                   quiet);
   EXPECT_TRUE(plain.sensor.pixels.empty());
   ASSERT_EQ(plain.image.pixels.size(), sensed.image.pixels.size());
   EXPECT_EQ(plain.image.pixels, sensed.image.pixels) << "the pre-sensor radiance changed";
@@ -55,8 +55,7 @@ TEST_F(SensorStage, KeepsThePreSensorRenderAndWritesTheSensedImageBesideIt) {
   const Image file = read_exr(dir_ / "s.sensor.exr");
   EXPECT_EQ(file.width, 12);
   EXPECT_EQ(file.height, 8);
-  for (const char* c : {"R", "G", "B", "nir.Y", "optical.R", "optical.nir.Y"})
-    EXPECT_GE(file.find_channel(c), 0) << c;
+  for (const char* c : {"R", "G", "B", "nir.Y", "optical.R", "optical.nir.Y"}) EXPECT_GE(file.find_channel(c), 0) << c;
   EXPECT_EQ(file.attribute("sylva:sensor:preset"), "machine_vision_12bit");
   EXPECT_EQ(file.attribute("sylva:sensor:noise_seed"), "5");
   EXPECT_NE(file.attribute("sylva:sensor:calibration:G").find("radiance = "), std::string::npos);
@@ -101,9 +100,13 @@ TEST_F(SensorStage, BadInputIsFileLineWhatWasExpected) {
   };
   // The line after "[sensor]", which follows the box scene and a blank line.
   const std::string where =
-      "sensor scene:" + std::to_string(std::count(test::kBoxSceneToml, test::kBoxSceneToml + std::strlen(test::kBoxSceneToml), '\n') + 3) + ": ";
+      "sensor scene:" +
+      std::to_string(std::count(test::kBoxSceneToml, test::kBoxSceneToml + std::strlen(test::kBoxSceneToml), '\n') +
+                     3) +
+      ": ";
   const std::string key = message("\n[sensor]\nf_numbre = 2\n");
-  EXPECT_NE(key.find(where + "unknown key 'f_numbre' in [sensor] (expected one of: preset, f_number"), std::string::npos)
+  EXPECT_NE(key.find(where + "unknown key 'f_numbre' in [sensor] (expected one of: preset, f_number"),
+            std::string::npos)
       << key;
   EXPECT_NE(key.find("oversample"), std::string::npos) << key;
   const std::string preset = message("\n[sensor]\npreset = \"hubble\"\n");

@@ -118,19 +118,20 @@ TEST(SensorDetector, CalibrationMapsDigitalNumbersBackToRadiance) {
   const SensorChannel c = monochromatic_channel("G", 550.0, 80.0);
   const ChannelCalibration cal = calibrate_channel(p, c, 2e-3);
   for (double l : {0.001, 0.01, 0.03, 0.05}) {
-    const std::vector<float> dn = detect_channel(std::vector<float>(4, static_cast<float>(l)), 2, 2, 0, p, cal, c, 2e-3, 1);
+    const std::vector<float> dn =
+        detect_channel(std::vector<float>(4, static_cast<float>(l)), 2, 2, 0, p, cal, c, 2e-3, 1);
     if (l < cal.saturation_radiance) {
       EXPECT_NEAR(cal.radiance_per_dn * (dn[0] - cal.dn_offset) / l, 1.0, 0.01) << l;
     }
   }
   // Saturation: past the full well every detector reads the same clipped number.
-  const std::vector<float> bright =
-      detect_channel(std::vector<float>(4, static_cast<float>(cal.saturation_radiance * 3)), 2, 2, 0, p, cal, c, 2e-3, 1);
+  const std::vector<float> bright = detect_channel(
+      std::vector<float>(4, static_cast<float>(cal.saturation_radiance * 3)), 2, 2, 0, p, cal, c, 2e-3, 1);
   EXPECT_NEAR(cal.radiance_per_dn * (bright[0] - cal.dn_offset) / cal.saturation_radiance, 1.0, 0.01);
   // The camera equation by hand: π τ / (1 + 4N²) · p² · Δλ · λ / (h c) · QE.
   const double n = p.optics.f_number, pitch = p.sampling.pitch_um * 1e-6;
-  const double by_hand = std::numbers::pi * p.optics.transmittance / (1 + 4 * n * n) * pitch * pitch * 80.0 *
-                         550e-9 / (6.62607015e-34 * 299792458.0) * p.detector.qe;
+  const double by_hand = std::numbers::pi * p.optics.transmittance / (1 + 4 * n * n) * pitch * pitch * 80.0 * 550e-9 /
+                         (6.62607015e-34 * 299792458.0) * p.detector.qe;
   EXPECT_NEAR(electron_rate_per_radiance(p, c, p.detector.qe) / by_hand, 1.0, 1e-9);
 }
 
