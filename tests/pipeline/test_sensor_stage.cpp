@@ -31,7 +31,7 @@ RenderCallOptions sensor_options(const std::string& sensor_toml, const std::file
   return o;
 }
 
-std::string read_text(const std::filesystem::path& p) {
+std::string sensor_file_text(const std::filesystem::path& p) {
   std::ifstream in(p);
   std::stringstream s;
   s << in.rdbuf();
@@ -60,7 +60,7 @@ TEST_F(SensorStage, KeepsThePreSensorRenderAndWritesTheSensedImageBesideIt) {
   EXPECT_EQ(file.attribute("sylva:sensor:noise_seed"), "5");
   EXPECT_NE(file.attribute("sylva:sensor:calibration:G").find("radiance = "), std::string::npos);
   EXPECT_EQ(sensed.sensor.pixels, file.pixels);
-  const std::string json = read_text(dir_ / "s.sensor.json");
+  const std::string json = sensor_file_text(dir_ / "s.sensor.json");
   EXPECT_NE(json.find("\"noise_seed\": 5"), std::string::npos) << json;
   EXPECT_NE(json.find("\"radiance_per_dn\""), std::string::npos) << json;
   // The calibration gives the optical radiance back from the numbers, on average over the image.
@@ -80,7 +80,7 @@ TEST_F(SensorStage, SameSeedsSameFilesAndTheSeedFollowsTheRender) {
   const std::string sensor = "\n[sensor]\npreset = \"phone_8bit\"\n";
   render_scene(sensor_options(sensor, dir_ / "a.exr"), quiet);
   render_scene(sensor_options(sensor, dir_ / "b.exr"), quiet);
-  EXPECT_EQ(read_text(dir_ / "a.sensor.exr"), read_text(dir_ / "b.sensor.exr"));
+  EXPECT_EQ(sensor_file_text(dir_ / "a.sensor.exr"), sensor_file_text(dir_ / "b.sensor.exr"));
   RenderCallOptions other = sensor_options(sensor, dir_ / "c.exr");
   other.request.seed = 77;
   render_scene(other, quiet);
