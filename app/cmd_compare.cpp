@@ -1,6 +1,7 @@
 // `sylva compare`: statistical comparison of a render against a reference (compare/image_compare.h).
 
 #include "app/commands.h"
+#include "compare/assumptions.h"
 #include "compare/compare_report.h"
 #include "compare/image_compare.h"
 #include "core/error.h"
@@ -51,6 +52,10 @@ struct CompareArgs {
   double fail_percent = 0.0;
   double bias_alpha = 1e-3;
   int bias_tile = 16;
+  int bias_grid = 4;
+  int64_t region_min_pixels = 64;
+  bool allow_same_seed = false;
+  std::vector<std::string> allowed_differences;
   float diff_scale = 16.0f;
   std::string view = "Standard";
   float exposure_ev = 0.0f;
@@ -67,12 +72,18 @@ int run_compare(const CompareArgs& a) {
   options.fail_percent = a.fail_percent;
   options.bias_alpha = a.bias_alpha;
   options.bias_tile = a.bias_tile;
+  options.bias_grid = a.bias_grid;
+  options.region_min_pixels = a.region_min_pixels;
 
   const Image test = read_exr(a.test);
   const Image ref = read_exr(a.ref);
   std::optional<Image> test_var, ref_var;
   if (!a.test_var.empty()) test_var = read_exr(a.test_var);
   if (!a.ref_var.empty()) ref_var = read_exr(a.ref_var);
+  const AssumptionReport assumptions =
+      check_assumptions(test, ref, AssumptionOptions{a.allow_same_seed, a.allowed_differences});
+  if (assumptions.refused()) throw Error("refused: " + assumptions.refusal());
+  for (const AssumptionFinding& f : assumptions.findings) fmt::print("note: {}\n", f.message);
 
   const CompareResult result =
       compare_images(test, ref, options, test_var ? &*test_var : nullptr, ref_var ? &*ref_var : nullptr);
@@ -125,12 +136,27 @@ CommandRun add_compare_command(CLI::App& parent) {
       ->needs(fail)
       ->check(kFiniteNumber & CLI::Range(0.0, 100.0));
   cmd->add_option("--bias-alpha", args->bias_alpha,
-                  "Level of the mean-bias tests over the image and over tiles (0 disables them)")
+                  "Family-wise level of the local bias and variance tests (image, tiles, grid, id regions; Holm; 0 "
+                  "disables them)")
       ->capture_default_str()
       ->check(kFiniteNumber & CLI::Range(0.0, 0.5));
   cmd->add_option("--bias-tile", args->bias_tile, "Tile size of the local mean-bias test (0: whole image only)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1 << 20));
+  cmd->add_option("--bias-grid", args->bias_grid,
+                  "Coarse grid of the local tests, cells per side (used when a cell is at least two tiles; 0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1 << 16));
+  cmd->add_option("--region-min-pixels", args->region_min_pixels,
+                  "Smallest id.class, id.object or sky region given its own local tests")
+      ->capture_default_str()
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
+  cmd->add_flag("--allow-same-seed", args->allow_same_seed,
+                "Compare images with the same seed (a determinism check; refused otherwise)");
+  cmd->add_option("--allow-difference", args->allowed_differences,
+                  "Header differences that are intended: scene, bands, quantity, spectral, depth, sampler, view, "
+                  "denoised, or all (refused otherwise)")
+      ->delimiter(',');
   cmd->add_option("--report", args->report, "Write test/ref/error/pvalue EXRs, PNG previews and index.html here");
   cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")
       ->check(kFiniteNumber & CLI::Range(0.0, 1e6))
