@@ -19,16 +19,11 @@ struct Checked {
 };
 
 constexpr Checked kChecked[] = {
-    {"scene", "sylva:scene_hash"},
-    {"bands", "sylva:bands"},
-    {"quantity", "sylva:quantity"},
-    {"spectral", "sylva:irradiance"},
-    {"depth", "sylva:max_depth"},
-    {"sampler", "sylva:sampler"},
-    {"view", "sylva:camera_projection"},
-    {"view", "sylva:camera_intrinsics"},
-    {"view", "sylva:world_from_camera"},
-    {"denoised", "sylva:denoised"},
+    {"scene", "sylva:scene_hash"},       {"bands", "sylva:bands"},
+    {"quantity", "sylva:quantity"},      {"spectral", "sylva:irradiance"},
+    {"depth", "sylva:max_depth"},        {"sampler", "sylva:sampler"},
+    {"view", "sylva:camera_projection"}, {"view", "sylva:camera_intrinsics"},
+    {"view", "sylva:world_from_camera"}, {"denoised", "sylva:denoised"},
     {"version", "sylva:version"},
 };
 
@@ -77,15 +72,13 @@ bool same_value(const std::string& a, const std::string& b) {
   return i == a.size() && j == b.size();
 }
 
-std::string shorten(const std::string& value) {
-  return value.size() > 60 ? value.substr(0, 57) + "..." : value;
-}
+std::string shorten(const std::string& value) { return value.size() > 60 ? value.substr(0, 57) + "..." : value; }
 
 }  // namespace
 
 const std::vector<std::string>& assumption_keys() {
-  static const std::vector<std::string> keys{"seed",    "scene", "bands",    "quantity", "spectral",
-                                             "depth",   "sampler", "view",   "denoised", "version"};
+  static const std::vector<std::string> keys{"seed",  "scene",   "bands", "quantity", "spectral",
+                                             "depth", "sampler", "view",  "denoised", "version"};
   return keys;
 }
 
@@ -103,9 +96,10 @@ std::string AssumptionReport::refusal() const {
 AssumptionReport check_assumptions(const Image& test, const Image& ref, const AssumptionOptions& options) {
   for (const std::string& key : options.allowed)
     if (key != "all" && std::find(assumption_keys().begin(), assumption_keys().end(), key) == assumption_keys().end())
-      throw Error(fmt::format("unknown difference '{}' (known: seed, scene, bands, quantity, spectral, depth, "
-                              "sampler, view, denoised, version, all)",
-                              key));
+      throw Error(
+          fmt::format("unknown difference '{}' (known: seed, scene, bands, quantity, spectral, depth, "
+                      "sampler, view, denoised, version, all)",
+                      key));
   const auto allowed = [&](const std::string& key) {
     return std::find(options.allowed.begin(), options.allowed.end(), key) != options.allowed.end() ||
            std::find(options.allowed.begin(), options.allowed.end(), "all") != options.allowed.end();

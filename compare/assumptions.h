@@ -20,6 +20,7 @@
 // recorded in only one image is reported as not comparable, and not refused (references made
 // before the attribute existed lack it).
 
+#include "core/error.h"
 #include "core/image.h"
 
 #include <string>
@@ -33,8 +34,8 @@ struct AssumptionOptions {
 };
 
 struct AssumptionFinding {
-  std::string key;        // seed, scene, bands, ...
-  std::string attribute;  // the header attribute
+  std::string key;                    // seed, scene, bands, ...
+  std::string attribute;              // the header attribute
   std::string test_value, ref_value;  // "" where not recorded
   bool refused = false;
   std::string message;  // one line for people
@@ -45,6 +46,12 @@ struct AssumptionReport {
   bool refused() const;
   // "the test and reference ... (pass --allow-difference KEY if intended)", one clause per refusal.
   std::string refusal() const;
+};
+
+// A comparison refused by the checks (its message starts "refused: " or "<case>: refused: ").
+class RefusedComparison : public Error {
+ public:
+  using Error::Error;
 };
 
 // The keys of the list above, for option parsing.

@@ -181,7 +181,8 @@ GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(Rend
   intended.allowed =
       modify || !overrides.empty() ? std::vector<std::string>{"all"} : std::vector<std::string>{"scene", "sampler"};
   out.assumptions = check_assumptions(out.test, ref, intended);
-  if (out.assumptions.refused()) throw Error(fmt::format("{}: refused: {}", c.name, out.assumptions.refusal()));
+  if (out.assumptions.refused())
+    throw RefusedComparison(fmt::format("{}: refused: {}", c.name, out.assumptions.refusal()));
   out.compare = compare_images(out.test, ref, compare);
   Image det = render_golden(loaded, options, g.determinism_spp, g.determinism_seed, adjust);
   if (without_labels) drop_channels(det, labels);

@@ -80,7 +80,7 @@ struct GoldenCheck {
 // The check render's header is checked against the reference's (compare/assumptions.h): the scene
 // hash is the record's to check and the sampler may differ (references kept across samplers);
 // with `modify` or `overrides` every difference is intended. Any other difference, or a check seed
-// equal to the reference's, throws sylva::Error.
+// equal to the reference's, throws RefusedComparison.
 GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(RenderSettings&)>& adjust = {},
                               const std::function<void(Scene&)>& modify = {}, const TransportFaults& faults = {},
                               const std::vector<std::string>& overrides = {});

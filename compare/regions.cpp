@@ -55,7 +55,8 @@ void measure(Partition& part, int width) {
   for (size_t p = 0; p < part.of_pixel.size(); ++p) {
     const int32_t r = part.of_pixel[p];
     if (r < 0) continue;
-    const int x = static_cast<int>(p % static_cast<size_t>(width)), y = static_cast<int>(p / static_cast<size_t>(width));
+    const int x = static_cast<int>(p % static_cast<size_t>(width)),
+              y = static_cast<int>(p / static_cast<size_t>(width));
     auto& b = part.boxes[static_cast<size_t>(r)];
     b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x + 1), std::max(b[3], y + 1)};
     ++part.pixels[static_cast<size_t>(r)];

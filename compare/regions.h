@@ -41,16 +41,16 @@ inline constexpr int64_t kMinVariancePixels = 32;
 struct RegionTest {
   std::string channel;
   RegionKind kind = RegionKind::Image;
-  int64_t label = 0;           // class or object id; tile or grid cell index; 0 for image and sky
-  int x0 = 0, y0 = 0;          // bounding box of the region's pixels: [x0, x1) × [y0, y1)
+  int64_t label = 0;   // class or object id; tile or grid cell index; 0 for image and sky
+  int x0 = 0, y0 = 0;  // bounding box of the region's pixels: [x0, x1) × [y0, y1)
   int x1 = 0, y1 = 0;
-  int64_t pixels = 0;          // pixels in the region
-  int64_t tested = 0;          // ... that entered the sums
+  int64_t pixels = 0;  // pixels in the region
+  int64_t tested = 0;  // ... that entered the sums
   double bias_z = 0.0, bias_p = 1.0;
-  double mean_shift = 0.0;       // Σd / Σ|ref| (+0.05 for a region 5 % too bright)
-  double variance_ratio = 1.0;   // mean z²: observed scatter / predicted
+  double mean_shift = 0.0;      // Σd / Σ|ref| (+0.05 for a region 5 % too bright)
+  double variance_ratio = 1.0;  // mean z²: observed scatter / predicted
   double variance_z = 0.0, variance_p = 1.0;
-  bool variance_tested = false;  // enough pixels for the variance test
+  bool variance_tested = false;                     // enough pixels for the variance test
   double bias_p_holm = 1.0, variance_p_holm = 1.0;  // Holm-adjusted p-values (failed iff ≤ α)
   bool bias_failed = false, variance_failed = false;
   bool failed() const { return bias_failed || variance_failed; }
@@ -71,9 +71,9 @@ struct RegionOptions {
 struct RegionMaps {
   struct Partition {
     RegionKind kind = RegionKind::Image;
-    std::vector<int32_t> of_pixel;  // region index per pixel, −1 outside every region
-    std::vector<int64_t> labels;    // per region
-    std::vector<int64_t> pixels;    // per region
+    std::vector<int32_t> of_pixel;          // region index per pixel, −1 outside every region
+    std::vector<int64_t> labels;            // per region
+    std::vector<int64_t> pixels;            // per region
     std::vector<std::array<int, 4>> boxes;  // per region: x0, y0, x1, y1
   };
   int width = 0, height = 0;

@@ -16,9 +16,9 @@ Image with(std::vector<std::pair<std::string, std::string>> attributes) {
 }
 
 const std::vector<std::pair<std::string, std::string>> kRef{
-    {"sylva:seed", "1"},         {"sylva:spp", "4096"},         {"sylva:scene_hash", "abc"},
-    {"sylva:bands", "rgb,nir"},  {"sylva:quantity", "radiance"}, {"sylva:max_depth", "8"},
-    {"sylva:sampler", "sobol"},  {"sylva:version", "0.1.0"}};
+    {"sylva:seed", "1"},        {"sylva:spp", "4096"},          {"sylva:scene_hash", "abc"},
+    {"sylva:bands", "rgb,nir"}, {"sylva:quantity", "radiance"}, {"sylva:max_depth", "8"},
+    {"sylva:sampler", "sobol"}, {"sylva:version", "0.1.0"}};
 
 Image changed(const std::string& key, const std::string& value) {
   Image image = with(kRef);
@@ -46,10 +46,13 @@ TEST(Assumptions, TheSameSeedIsRefusedUnlessAllowed) {
 }
 
 TEST(Assumptions, EveryDifferenceIsRefusedAndNamed) {
-  const std::vector<std::pair<std::string, std::string>> cases{
-      {"sylva:scene_hash", "scene"}, {"sylva:bands", "bands"},     {"sylva:quantity", "quantity"},
-      {"sylva:max_depth", "depth"},  {"sylva:sampler", "sampler"}, {"sylva:irradiance", "spectral"},
-      {"sylva:wavelength_sampling", "spectral"}};
+  const std::vector<std::pair<std::string, std::string>> cases{{"sylva:scene_hash", "scene"},
+                                                               {"sylva:bands", "bands"},
+                                                               {"sylva:quantity", "quantity"},
+                                                               {"sylva:max_depth", "depth"},
+                                                               {"sylva:sampler", "sampler"},
+                                                               {"sylva:irradiance", "spectral"},
+                                                               {"sylva:wavelength_sampling", "spectral"}};
   for (const auto& [attribute, key] : cases) {
     Image test = changed("sylva:seed", "2");
     Image ref = with(kRef);
@@ -57,8 +60,7 @@ TEST(Assumptions, EveryDifferenceIsRefusedAndNamed) {
     ref.set_attribute(attribute, "other");
     const AssumptionReport r = check_assumptions(test, ref, {});
     EXPECT_TRUE(r.refused()) << attribute;
-    EXPECT_NE(r.refusal().find(attribute + " differs: test one, reference other"), std::string::npos)
-        << r.refusal();
+    EXPECT_NE(r.refusal().find(attribute + " differs: test one, reference other"), std::string::npos) << r.refusal();
     EXPECT_NE(r.refusal().find("--allow-difference " + key), std::string::npos) << r.refusal();
     EXPECT_FALSE(check_assumptions(test, ref, {.allowed = {key}}).refused()) << key;
     EXPECT_FALSE(check_assumptions(test, ref, {.allowed = {"all"}}).refused()) << key;

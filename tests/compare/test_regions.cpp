@@ -35,8 +35,8 @@ Labels labels_at(int x, int y) {
 
 struct LabelledDraw {
   int spp = 64;
-  double tree_scale = 1.0;     // multiplies μ of every tree
-  int object = 0;              // > 0: object_scale applies to this object only
+  double tree_scale = 1.0;  // multiplies μ of every tree
+  int object = 0;           // > 0: object_scale applies to this object only
   double object_scale = 1.0;
   double sky_sigma_scale = 1.0;  // the sky's actual σ, times what var.* says
 };
@@ -121,7 +121,7 @@ TEST(Regions, MadeFromTheReferenceIds) {
   EXPECT_EQ(objects.boxes[1], (std::array<int, 4>{5, 35, 16, 46}));
   options.min_pixels = 100;
   EXPECT_EQ(make_region_maps(reference(), options).partitions[3].labels.size(), 1u);  // the ground only
-  options.grid = 2;  // 48-pixel cells
+  options.grid = 2;                                                                   // 48-pixel cells
   EXPECT_EQ(make_region_maps(reference(), options).grid_cell, 48);
 }
 
