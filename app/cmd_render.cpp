@@ -34,6 +34,11 @@ int run_render(RenderOptions opt) {
   call.require_exr = true;
   call.memory_check = !opt.no_memory_check;
   if (opt.exposure_set) call.preview.exposure_ev = opt.exposure;
+  // `sylva render` alone: the built-in scene to ./sylva.exr and ./sylva.png.
+  if (call.request.source.file.empty() && call.request.source.text.empty() && call.exr.empty() && call.chunk.empty()) {
+    call.exr = "sylva.exr";
+    if (call.png.empty()) call.png = "sylva.png";
+  }
   if (!opt.frames.empty()) {
     const FramesResult r = render_frames(call, parse_frames(opt.frames, opt.fps), observer);
     if (r.skipped > 0) observer.on_message(fmt::format("{} frame(s) already rendered, skipped", r.skipped));
@@ -56,7 +61,8 @@ CommandRun add_render_command(CLI::App& parent) {
   RenderRequest& req = call.request;
   CLI::App* cmd = parent.add_subcommand("render", "Render a scene file (or the built-in default scene) to EXR and PNG");
   cmd->add_option("scene", req.source.file, "Scene file (TOML); omit for the built-in default scene");
-  cmd->add_option("-o,--output", call.exr, "Output EXR, or partial file with --chunk (written atomically)");
+  cmd->add_option("-o,--output", call.exr,
+                  "Output EXR, or partial file with --chunk (written atomically); the built-in scene: sylva.exr");
   cmd->add_option("--png", call.png, "PNG preview of the visible band (OCIO display transform)");
   add_request_options(cmd, req);
   cmd->add_option("--checkpoint-minutes", call.checkpoint_minutes,
