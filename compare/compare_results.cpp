@@ -56,10 +56,11 @@ std::string json_assumptions(const AssumptionReport& a) {
   std::string s = "[";
   for (size_t i = 0; i < a.findings.size(); ++i) {
     const AssumptionFinding& f = a.findings[i];
-    s += fmt::format("{}{{\"key\": {}, \"attribute\": {}, \"test\": {}, \"reference\": {}, \"refused\": {}, "
-                     "\"message\": {}}}",
-                     i ? ", " : "", json_text(f.key), json_text(f.attribute), json_text(f.test_value),
-                     json_text(f.ref_value), json_bool(f.refused), json_text(f.message));
+    s += fmt::format(
+        "{}{{\"key\": {}, \"attribute\": {}, \"test\": {}, \"reference\": {}, \"refused\": {}, "
+        "\"message\": {}}}",
+        i ? ", " : "", json_text(f.key), json_text(f.attribute), json_text(f.test_value), json_text(f.ref_value),
+        json_bool(f.refused), json_text(f.message));
   }
   return s + "]";
 }
@@ -84,9 +85,8 @@ std::string json_region(const RegionTest& t) {
       "\"variance_p_holm\": {}, \"verdict\": \"{}\"}}",
       json_text(t.channel), region_kind_name(t.kind), t.label, json_text(region_name(t)), t.x0, t.y0, t.x1, t.y1,
       t.pixels, t.tested, json_number(t.bias_z), json_number(t.bias_p), json_number(t.bias_p_holm),
-      json_number(t.mean_shift), json_bool(t.variance_tested), json_number(t.variance_ratio),
-      json_number(t.variance_z), json_number(t.variance_p), json_number(t.variance_p_holm),
-      t.failed() ? "fail" : "pass");
+      json_number(t.mean_shift), json_bool(t.variance_tested), json_number(t.variance_ratio), json_number(t.variance_z),
+      json_number(t.variance_p), json_number(t.variance_p_holm), t.failed() ? "fail" : "pass");
 }
 
 std::string json_result(const CompareResult& r) {
@@ -99,10 +99,11 @@ std::string json_result(const CompareResult& r) {
       r.width, r.height, json_bool(r.threshold_mode), json_bool(r.passed), r.tested, r.rejected, r.failing_pixels,
       json_number(r.reject_fraction), json_number(r.limit), json_number(r.alpha_pixel), json_number(r.z_critical),
       json_number(r.bias_alpha), r.family_size, json_number(r.bias_z_critical), r.bias_tile, r.bias_grid_cell);
-  s += r.worst.x >= 0 ? fmt::format("\"worst_pixel\": {{\"x\": {}, \"y\": {}, \"channel\": {}, \"z\": {}, \"p\": {}, "
-                                    "\"test\": {}, \"reference\": {}}}, ",
-                                    r.worst.x, r.worst.y, json_text(r.worst.channel), json_number(r.worst.z),
-                                    json_number(r.worst.p), json_number(r.worst.test), json_number(r.worst.ref))
+  s += r.worst.x >= 0 ? fmt::format(
+                            "\"worst_pixel\": {{\"x\": {}, \"y\": {}, \"channel\": {}, \"z\": {}, \"p\": {}, "
+                            "\"test\": {}, \"reference\": {}}}, ",
+                            r.worst.x, r.worst.y, json_text(r.worst.channel), json_number(r.worst.z),
+                            json_number(r.worst.p), json_number(r.worst.test), json_number(r.worst.ref))
                       : std::string("\"worst_pixel\": null, ");
   s += "\"skipped\": [";
   for (size_t i = 0; i < r.skipped.size(); ++i) s += (i ? ", " : "") + json_text(r.skipped[i]);
@@ -178,15 +179,16 @@ void add_failure(pugi::xml_node c, const std::string& message, JunitCounts& coun
 }
 
 std::string region_failure(const RegionTest& t) {
-  return fmt::format("{} {}: x {}-{}, y {}-{}, {} px: bias z {:+.2f}, mean shift {:+.3g}%, scatter {:.3g} "
-                     "(Holm p {:.3g}, {:.3g})",
-                     t.channel, region_name(t), t.x0, t.x1 - 1, t.y0, t.y1 - 1, t.pixels, t.bias_z,
-                     100.0 * t.mean_shift, t.variance_ratio, t.bias_p_holm, t.variance_p_holm);
+  return fmt::format(
+      "{} {}: x {}-{}, y {}-{}, {} px: bias z {:+.2f}, mean shift {:+.3g}%, scatter {:.3g} "
+      "(Holm p {:.3g}, {:.3g})",
+      t.channel, region_name(t), t.x0, t.x1 - 1, t.y0, t.y1 - 1, t.pixels, t.bias_z, 100.0 * t.mean_shift,
+      t.variance_ratio, t.bias_p_holm, t.variance_p_holm);
 }
 
 // The channel's cases: its pixels, then its regions (tiles as one case).
-void junit_channel(pugi::xml_node suite, const std::string& suite_name, const CompareResult& r,
-                   const ChannelReport& c, JunitCounts& counts) {
+void junit_channel(pugi::xml_node suite, const std::string& suite_name, const CompareResult& r, const ChannelReport& c,
+                   JunitCounts& counts) {
   const std::string classname = suite_name + "." + c.name;
   pugi::xml_node pixels = add_case(suite, classname, "pixels", counts);
   if (c.reject_fraction() > r.limit)
@@ -227,7 +229,8 @@ std::string results_junit(const std::vector<ComparisonRecord>& records, const st
     suite.append_attribute("name") = rec.name.c_str();
     pugi::xml_node props = suite.append_child("properties");
     for (const auto& [key, value] : {std::pair<std::string, std::string>{"test", rec.test},
-                                     {"reference", rec.reference}, {"verdict", rec.verdict()}}) {
+                                     {"reference", rec.reference},
+                                     {"verdict", rec.verdict()}}) {
       pugi::xml_node p = props.append_child("property");
       p.append_attribute("name") = key.c_str();
       p.append_attribute("value") = value.c_str();

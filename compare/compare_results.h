@@ -28,8 +28,8 @@ struct ComparisonRecord {
   std::string test = {}, reference = {};  // what was compared (paths or labels)
   const CompareResult* result = nullptr;  // null when refused or unusable
   AssumptionReport assumptions = {};
-  bool refused = false;     // an assumption check refused the comparison
-  std::string error = {};  // the message when refused or unusable
+  bool refused = false;                          // an assumption check refused the comparison
+  std::string error = {};                        // the message when refused or unusable
   std::optional<bool> determinism_matches = {};  // golden: the low-spp hash reproduced (unset: not checked)
   std::string determinism_hash = {};
   double seconds = 0.0;

@@ -62,8 +62,9 @@ TEST(GoldenResults, AUsersFolderWithJsonAndJunit) {
   EXPECT_GT(xml.child("testsuites").attribute("tests").as_int(), 10);
 
   // A record whose check seed is the reference's is refused, the other case still runs: exit 2.
-  add_case(dir / "cases", "same_seed", "ground_sky",
-           [](const std::string& r) { return std::regex_replace(r, std::regex("check_seed = \\d+"), "check_seed = 1"); });
+  add_case(dir / "cases", "same_seed", "ground_sky", [](const std::string& r) {
+    return std::regex_replace(r, std::regex("check_seed = \\d+"), "check_seed = 1");
+  });
   const auto refused = run_sylva("golden check --dir " + q(dir / "cases") + " --json " + q(json), dir);
   EXPECT_EQ(refused.exit_code, 2) << refused.out << refused.err;
   EXPECT_NE(refused.out.find("ERROR same_seed: same_seed: refused: the test and reference have the same seed (1)"),
@@ -76,9 +77,8 @@ TEST(GoldenResults, AUsersFolderWithJsonAndJunit) {
   EXPECT_EQ(doc2["comparisons"][1]["verdict"].string, "pass");
 
   // A regression (the sun 2 degrees lower through --set): exit 1, the failure in the JUnit file.
-  const auto lower = run_sylva("golden check --dir " + q(dir / "cases") + " --only sunlit --set sun.elevation=33" +
-                                   " --junit " + q(junit),
-                               dir);
+  const auto lower = run_sylva(
+      "golden check --dir " + q(dir / "cases") + " --only sunlit --set sun.elevation=33" + " --junit " + q(junit), dir);
   EXPECT_EQ(lower.exit_code, 1) << lower.out << lower.err;
   ASSERT_TRUE(xml.load_file(junit.c_str()));
   EXPECT_GT(xml.child("testsuites").attribute("failures").as_int(), 0);

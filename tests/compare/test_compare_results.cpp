@@ -86,7 +86,10 @@ TEST(CompareResults, JsonValidatesAndSaysWhatFailed) {
 }
 
 TEST(CompareResults, RefusedAndUnusableAreErrors) {
-  ComparisonRecord refused{.name = "seed", .test = "t.exr", .reference = "r.exr", .refused = true,
+  ComparisonRecord refused{.name = "seed",
+                           .test = "t.exr",
+                           .reference = "r.exr",
+                           .refused = true,
                            .error = "refused: the test and reference have the same seed (1)"};
   refused.assumptions.findings.push_back({"seed", "sylva:seed", "1", "1", true, "same seed"});
   ComparisonRecord missing{.name = "missing", .test = "t.exr", .reference = "r.exr", .error = "r.exr: no such file"};
@@ -128,8 +131,8 @@ TEST(CompareResults, JunitHasACasePerChannelAndRegion) {
   EXPECT_EQ(root.attribute("tests").as_int(), cases);
   // Per z-tested channel: pixels, image, object 1, class 1, sky, tiles; per id channel: pixels; determinism.
   EXPECT_EQ(cases, 3 * 6 + 3 + 1);
-  for (const char* name : {"bright.R pixels", "bright.R image", "bright.G object 1", "bright.B class 1",
-                           "bright.B sky", "bright.R tiles", "bright.id.class pixels", "bright determinism"})
+  for (const char* name : {"bright.R pixels", "bright.R image", "bright.G object 1", "bright.B class 1", "bright.B sky",
+                           "bright.R tiles", "bright.id.class pixels", "bright determinism"})
     EXPECT_TRUE(names.count(name)) << name;
   EXPECT_GE(failures, 4);  // object 1 and class 1 in at least two channels, and determinism
   for (const pugi::xml_node c : suite.children("testcase"))

@@ -96,7 +96,8 @@ class SchemaValidator {
           for (size_t i = 0; i < v.array.size(); ++i)
             check(arg, v.array[i], path + "[" + std::to_string(i) + "]", errors);
       } else if (key == "minItems" || key == "maxItems") {
-        if (v.kind == Json::Kind::Array && (key == "minItems" ? v.array.size() < arg.number : v.array.size() > arg.number))
+        if (v.kind == Json::Kind::Array &&
+            (key == "minItems" ? v.array.size() < arg.number : v.array.size() > arg.number))
           errors.push_back(path + ": " + key);
       } else if (key == "minimum") {
         if (v.kind == Json::Kind::Number && v.number < arg.number) errors.push_back(path + ": below minimum");
