@@ -15,6 +15,7 @@
 #include <regex>
 
 namespace sylva {
+namespace golden_results_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -106,4 +107,5 @@ TEST(GoldenResults, CompareWritesJsonAlsoWhenRefused) {
 }
 
 }  // namespace
+}  // namespace golden_results_test
 }  // namespace sylva

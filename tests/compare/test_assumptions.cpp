@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 namespace sylva {
+namespace assumptions_test {
 namespace {
 
 Image with(std::vector<std::pair<std::string, std::string>> attributes) {
@@ -98,4 +99,5 @@ TEST(Assumptions, UnknownKeyIsAnError) {
 }
 
 }  // namespace
+}  // namespace assumptions_test
 }  // namespace sylva

@@ -15,6 +15,7 @@
 #include <sstream>
 
 namespace sylva {
+namespace compare_results_test {
 namespace {
 
 using test::Json;
@@ -162,4 +163,5 @@ TEST(CompareResults, TheValidatorRejectsBrokenDocuments) {
 }
 
 }  // namespace
+}  // namespace compare_results_test
 }  // namespace sylva

@@ -14,6 +14,7 @@
 #include <random>
 
 namespace sylva {
+namespace regions_test {
 namespace {
 
 constexpr int kSize = 96;
@@ -203,4 +204,5 @@ TEST(Regions, IndependentDrawsFailAtMostAtTheFamilysAlpha) {
 }
 
 }  // namespace
+}  // namespace regions_test
 }  // namespace sylva
