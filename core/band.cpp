@@ -2,12 +2,9 @@
 
 #include "core/data_path.h"
 #include "core/error.h"
-#include "core/simd.h"
 #include "core/table.h"
 
-#include <emmintrin.h>  // SSE2 only: the x86-64 baseline (docs/design.md §10, "Build cost")
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 namespace sylva {
@@ -154,105 +151,6 @@ Band resolve_band(const std::string& name) {
   std::string list;
   for (const auto& n : known_band_names()) list += (list.empty() ? "" : ", ") + n;
   throw Error("unknown band '" + name + "' (known: " + list + ")");
-}
-
-WavelengthSampler::WavelengthSampler(const std::vector<Band>& bands) {
-  std::vector<float> w(kLambdaSamples - 1, 0.0f);
-  for (const Band& b : bands)
-    for (int i = 0; i + 1 < kLambdaSamples; ++i) w[i] += 0.5f * (b.importance[i] + b.importance[i + 1]);
-  // The table spans the 1 nm bins from the first to the last with importance: the same density in a
-  // table a third the size for the rgb and nir bands.
-  const auto first = std::find_if(w.begin(), w.end(), [](float x) { return x > 0; });
-  if (first != w.end()) {
-    const auto last = std::find_if(w.rbegin(), w.rend(), [](float x) { return x > 0; }).base();
-    lo_nm_ = kLambdaMin + static_cast<float>(first - w.begin());
-    w = std::vector<float>(first, last);
-  }
-  const int n = static_cast<int>(w.size());
-  std::vector<DistributionBin> table(n + 1);
-  std::vector<uint32_t> guide(n);
-  Distribution1D::tabulate(w.data(), n, table.data(), guide.data());
-  cdf_.resize(n + 1);
-  for (int i = 0; i <= n; ++i) cdf_[i] = table[i].cdf;
-  // Each cell's first bin: the bin with mass whose [cdf, next cdf) holds the cell's start.
-  const auto next_with_mass = [&](int i) {
-    while (i < n && !(cdf_[i + 1] > cdf_[i])) ++i;
-    return i;  // n: none
-  };
-  cells_.resize(kCells);
-  int bin = next_with_mass(0);
-  for (int k = 0; k < kCells; ++k) {
-    const float u0 = static_cast<float>(k) / kCells;
-    while (bin + 1 < n && cdf_[bin + 1] <= u0) bin = next_with_mass(bin + 1);
-    const int second = next_with_mass(bin + 1);
-    cells_[k] = Cell{cdf_[bin], second < n ? cdf_[second] : 1.0f, second < n ? cdf_[second + 1] : 1.0f,
-                     static_cast<uint16_t>(bin), static_cast<uint16_t>(second < n ? second : bin)};
-  }
-}
-
-SampledWavelengths WavelengthSampler::sample(float u) const {
-  // The four hero wavelengths side by side in one SSE register each step (bench/README.md, "Four
-  // at a time"): the same operations as one wavelength at a time, so the same bits.
-  // u_k = u + k/4, wrapped into [0, 1).
-  const __m128 v = _mm_add_ps(_mm_set1_ps(u), _mm_setr_ps(0.0f, 0.25f, 0.5f, 0.75f));
-  const __m128 wrap = _mm_cmpge_ps(v, _mm_set1_ps(1.0f));
-  const __m128 uk = simd::select(wrap, _mm_sub_ps(v, _mm_set1_ps(1.0f)), v);
-  // Each u_k's cell (u_k < 1, so the index stays below kCells), loaded together so the misses
-  // overlap, then transposed: cdf0, cdf1, end1 and the two bins of each wavelength's cell.
-  alignas(16) int32_t index[kLambdaCount];
-  _mm_store_si128(reinterpret_cast<__m128i*>(index), _mm_cvttps_epi32(_mm_mul_ps(uk, _mm_set1_ps(kCells))));
-  __m128 cdf0 = _mm_loadu_ps(&cells_[index[0]].cdf0);
-  __m128 cdf1 = _mm_loadu_ps(&cells_[index[1]].cdf0);
-  __m128 end1 = _mm_loadu_ps(&cells_[index[2]].cdf0);
-  __m128 bins = _mm_loadu_ps(&cells_[index[3]].cdf0);
-  _MM_TRANSPOSE4_PS(cdf0, cdf1, end1, bins);
-  // The bin holding u_k is the cell's first or its second (bin0 in the low, bin1 in the high half
-  // of the last word).
-  const __m128 second = _mm_cmpge_ps(uk, cdf1);
-  const __m128i bin_pair = _mm_castps_si128(bins);
-  const __m128i bin_mask = _mm_castps_si128(second);
-  const __m128i bin = _mm_or_si128(_mm_and_si128(bin_mask, _mm_srli_epi32(bin_pair, 16)),
-                                   _mm_andnot_si128(bin_mask, _mm_and_si128(bin_pair, _mm_set1_epi32(0xffff))));
-  __m128 lo = simd::select(second, cdf1, cdf0);
-  __m128 hi = simd::select(second, end1, cdf1);
-  alignas(16) int32_t bin_k[kLambdaCount];
-  _mm_store_si128(reinterpret_cast<__m128i*>(bin_k), bin);
-  if (_mm_movemask_ps(_mm_cmpge_ps(uk, hi))) [[unlikely]] {
-    // Beyond both (a cell over three or more bins): search the CDF from the cell's second bin on.
-    alignas(16) float u_k[kLambdaCount], lo_k[kLambdaCount], hi_k[kLambdaCount];
-    _mm_store_ps(u_k, uk);
-    _mm_store_ps(lo_k, lo);
-    _mm_store_ps(hi_k, hi);
-    const int n = static_cast<int>(cdf_.size()) - 1;
-    for (int k = 0; k < kLambdaCount; ++k) {
-      if (!(u_k[k] >= hi_k[k])) continue;
-      int i = cells_[index[k]].bin1 + 1;
-      while (i + 1 < n && cdf_[i + 1] <= u_k[k]) ++i;
-      bin_k[k] = i, lo_k[k] = cdf_[i], hi_k[k] = cdf_[i + 1];
-    }
-    lo = _mm_load_ps(lo_k);
-    hi = _mm_load_ps(hi_k);
-  }
-  const __m128 mass = _mm_sub_ps(hi, lo);  // > 0: lo ≤ u_k < hi
-  const __m128 du = _mm_min_ps(_mm_max_ps(_mm_setzero_ps(), _mm_div_ps(_mm_sub_ps(uk, lo), mass)), _mm_set1_ps(1.0f));
-  // lo_nm + bin is a whole number of nm, exact in float; λ stays below the bin's upper edge, so
-  // pdf(λ) finds this bin.
-  const __m128 edge =
-      _mm_add_ps(_mm_set1_ps(lo_nm_), _mm_cvtepi32_ps(_mm_load_si128(reinterpret_cast<__m128i*>(bin_k))));
-  const __m128 below_next =
-      _mm_castsi128_ps(_mm_sub_epi32(_mm_castps_si128(_mm_add_ps(edge, _mm_set1_ps(1.0f))), _mm_set1_epi32(1)));
-  SampledWavelengths wl;
-  // std::min(edge + du, below_next): below_next where it is less, as minps(below_next, x) gives.
-  _mm_storeu_ps(&wl.lambda_nm[0], _mm_min_ps(below_next, _mm_add_ps(edge, du)));
-  _mm_storeu_ps(&wl.pdf[0], mass);  // per nm: the bins are 1 nm wide
-  return wl;
-}
-
-float WavelengthSampler::pdf(float lambda_nm) const {
-  const int n = static_cast<int>(cdf_.size()) - 1;
-  if (!(lambda_nm >= lo_nm_ && lambda_nm < lo_nm_ + static_cast<float>(n))) return 0.0f;
-  const int bin = std::min(bin_of(lambda_nm), n - 1);
-  return cdf_[bin + 1] - cdf_[bin];
 }
 
 }  // namespace sylva

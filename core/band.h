@@ -52,21 +52,33 @@ Band load_band(const std::string& name, const std::filesystem::path& file, const
 // The names resolve_band accepts, for --help and error messages.
 std::vector<std::string> known_band_names();
 
-// Samples wavelengths for a set of bands: density ∝ Σ_b importance_b, so every band gets an equal
-// share of samples wherever it is sensitive. Hero sampling: kLambdaCount wavelengths from one
-// uniform number, stratified in the CDF (Wilkie et al. 2014).
+// Samples the kLambdaCount wavelengths a path carries, for a set of bands (docs/sampling.md,
+// "Wavelengths per band"). The bands form at most kLambdaBlocks groups (one per band while there are
+// that many; beyond, the bands nearest in centre wavelength share a group), and each group owns
+// whole blocks of four lanes: its lanes are stratified in the CDF of its own density p_g ∝ Σ of its
+// bands' importance (hero sampling, Wilkie et al. 2014), so adding a band takes no lanes from
+// another band's group. Every lane's pdf is the mixture q(λ) = Σ_g (n_g/n) p_g(λ) (n_g of the n
+// lanes in group g): the channel estimate Σ_k f(λ_k) w(λ_k) / (n q(λ_k)) is then the multi-sample
+// balance heuristic over the groups (Veach 1997, §9.2.2), unbiased for every band, and a band that
+// overlaps another's range (S2A_B4 inside rgb) lends it its lanes.
 class WavelengthSampler {
  public:
   WavelengthSampler() = default;
   explicit WavelengthSampler(const std::vector<Band>& bands);
 
-  SampledWavelengths sample(float u) const;
-  float pdf(float lambda_nm) const;  // per nm
+  // The lanes from u; the hero lane from u_hero (uniform over the lanes).
+  SampledWavelengths sample(float u, float u_hero) const;
+  float pdf(float lambda_nm) const;  // q(λ), per nm
+  // The group of block b (0 ≤ b < kLambdaBlocks), and the number of groups.
+  int group_of_block(int b) const { return block_group_[static_cast<size_t>(b)]; }
+  int group_count() const { return static_cast<int>(groups_.size()); }
+  // The group of the constructor's band `band`.
+  int group_of_band(size_t band) const { return band_group_[band]; }
 
  private:
-  // The density is piecewise constant on the 1 nm bins of Σ importance from the first bin with
-  // importance to the last, [lo, lo + n) nm: a bin's density per nm is its mass, the difference of
-  // the float CDF at its ends (the probability that a uniform u picks it).
+  // One group's density, piecewise constant on the 1 nm bins from its first bin with importance to
+  // its last, [lo, lo + n) nm: a bin's density per nm is its mass, the difference of the float CDF
+  // at its ends (the probability that a uniform u picks it).
   // Inverting the CDF takes one table entry: the cells split [0, 1) into kCells equal parts of u,
   // and each holds the (at most two) bins it overlaps, so a wavelength reads one 16-byte entry and
   // searches nothing (the tables are read after Embree's traversal has evicted them:
@@ -81,10 +93,24 @@ class WavelengthSampler {
   };
   static_assert(sizeof(Cell) == 16);
   static_assert(kLambdaSamples <= 65536, "bin indices are 16-bit");
+  struct Inversion {
+    std::vector<float> cdf;   // n + 1: cdf[i] is the mass of bins [0, i)
+    std::vector<Cell> cells;  // kCells
+    float lo_nm = kLambdaMin;
+
+    explicit Inversion(std::vector<float> weights);
+    float mass(int bin) const { return cdf[static_cast<size_t>(bin) + 1] - cdf[static_cast<size_t>(bin)]; }
+    // Four wavelengths at u_k ∈ [0, 1) (one per lane of `uk`).
+    glm::vec4 sample4(const float* uk) const;
+  };
   int bin_of(float lambda_nm) const { return static_cast<int>(lambda_nm - lo_nm_); }
 
-  std::vector<float> cdf_;   // n + 1: cdf_[i] is the mass of bins [0, i)
-  std::vector<Cell> cells_;  // kCells
+  std::vector<Inversion> groups_;
+  std::vector<int> band_group_;    // per band
+  std::vector<int> block_group_;   // kLambdaBlocks
+  std::vector<int> block_rank_;    // the block's place among its group's blocks
+  std::vector<int> group_blocks_;  // blocks per group
+  std::vector<float> pdf_;         // q per 1 nm bin from lo_nm_
   float lo_nm_ = kLambdaMin;
 };
 

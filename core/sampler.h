@@ -28,7 +28,8 @@ enum class SampleDim : uint32_t {
   // The camera event.
   kPixel,       // 2-D: position in the pixel
   kLens,        // 2-D: position on the lens
-  kWavelength,  // 1-D: the hero wavelength's CDF position
+  kWavelength,  // 1-D: the wavelengths' CDF position
+  kHero,        // 1-D: which carried wavelength is the hero (SampledWavelengths::hero)
   // A path event.
   kFreeFlight,     // 1-D: distance to a collision in a turbid crown
   kHaze,           // 1-D: distance to a collision in the haze

@@ -161,7 +161,8 @@ struct PathState {
 };
 // start() sets every field but the shadow query's payload (read only once its kind is set): a field
 // added to PathState must be added there too.
-static_assert(sizeof(PathState) == 360, "PathState::start() must set every field");
+// (11 spectra: 16 bytes per block of each beyond the first; the wavelengths' hero and its padding 8.)
+static_assert(sizeof(PathState) == 368 + 11 * 16 * (kLambdaBlocks - 1), "PathState::start() must set every field");
 
 class Integrator {
  public:

@@ -186,7 +186,8 @@ void Renderer::render_pixel(Film& film, int x, int y, int stream, uint32_t first
                              index);
       const Vec2 film_pos = Vec2(static_cast<float>(x), static_cast<float>(y)) + sampler.get2d(SampleDim::kPixel);
       const Vec2 lens = sampler.get2d(SampleDim::kLens);
-      const SampledWavelengths wl = wavelengths_.sample(sampler.get1d(SampleDim::kWavelength));
+      const SampledWavelengths wl =
+          wavelengths_.sample(sampler.get1d(SampleDim::kWavelength), sampler.get1d(SampleDim::kHero));
       firsts[k] = FirstHit{};
       const Ray ray = camera_.generate_ray(film_pos, lens);
       directions[k] = ray.direction;

@@ -227,7 +227,7 @@ SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths&
     if (c == Vec3(0.0f)) return SampledSpectrum(0.0f);
     const SampledSpectrum l =
         c.x * sky_basis_[0].eval(wl) + c.y * sky_basis_[1].eval(wl) + c.z * sky_basis_[2].eval(wl);
-    return glm::max(l, SampledSpectrum(0.0f));
+    return clamp_zero(l);
   }
   const float g = sky_shape(dir);
   return g > 0 ? g * sky_radiance_.eval(wl) : SampledSpectrum(0.0f);

@@ -57,7 +57,7 @@ Material scaled_reflectance(const Material& m, float factor);
 // The scene's materials as the render evaluates them at hits. A material whose BSDF depends on the
 // wavelengths and the face only (no varying parameter) and is at most kTabulatedLobes Lambertian
 // lobes is tabulated: its lobes' albedos on the dense 1 nm grid, per face, interleaved per grid
-// point, so a BSDF at four wavelengths reads four 16-byte pieces, not a line per spectrum and
+// point, so a BSDF reads a 16-byte piece per wavelength, not a line per spectrum and
 // wavelength (bench/README.md, "The sky's table and spectral tables"). Its values are the
 // materials' own (a lerp of the same grid values, the same bits). Other materials are evaluated
 // at the hit. Built per render from the scene's materials, which must outlive it.
@@ -75,14 +75,18 @@ class MaterialLobes {
     if (!layout.tabulated) return material_bsdf((*materials_)[ctx.material], ctx);
     const GridLobes* grid = &table_[face * kLambdaSamples];
     const GridPositions g = grid_positions(*ctx.wl);
-    const GridLobes* a[kLambdaCount];
-    for (int k = 0; k < kLambdaCount; ++k) a[k] = grid + g.index[k];
     Bsdf bsdf;
     for (int l = 0; l < layout.count; ++l) {
       // DenseSpectrum::eval's lerp, four wavelengths at a time.
-      const SampledSpectrum v0(a[0][0].albedo[l], a[1][0].albedo[l], a[2][0].albedo[l], a[3][0].albedo[l]);
-      const SampledSpectrum v1(a[0][1].albedo[l], a[1][1].albedo[l], a[2][1].albedo[l], a[3][1].albedo[l]);
-      bsdf.add(LambertLobe{v0 + g.fraction * (v1 - v0), layout.transmission[l]});
+      SampledSpectrum albedo;
+      for (int b = 0; b < kLambdaBlocks; ++b) {
+        const GridLobes* a[4] = {grid + g.index[4 * b], grid + g.index[4 * b + 1], grid + g.index[4 * b + 2],
+                                 grid + g.index[4 * b + 3]};
+        const Vec4 v0(a[0][0].albedo[l], a[1][0].albedo[l], a[2][0].albedo[l], a[3][0].albedo[l]);
+        const Vec4 v1(a[0][1].albedo[l], a[1][1].albedo[l], a[2][1].albedo[l], a[3][1].albedo[l]);
+        albedo.block(b) = v0 + g.fraction.block(b) * (v1 - v0);
+      }
+      bsdf.add(LambertLobe{albedo, layout.transmission[l]});
     }
     bsdf.finish();
     return bsdf;

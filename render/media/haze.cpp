@@ -113,8 +113,8 @@ SampledSpectrum Haze::transmittance(const Vec3& o, const Vec3& d, float t, const
 float Haze::sample_scattering(const Vec3& o, const Vec3& d, float t_max, const SampledWavelengths& wl, float u,
                               SampledSpectrum& beta, SampledSpectrum& ratio) const {
   const SampledSpectrum k = spectral_factor(wl);
-  // The first carried wavelength's free flight, by inverting τ₀ exactly.
-  const double tau = -std::log(1.0 - static_cast<double>(u)) / k[0];
+  // The hero wavelength's free flight, by inverting τ₀ exactly.
+  const double tau = -std::log(1.0 - static_cast<double>(u)) / k[wl.hero];
   const double s = distance_at_depth(o, d, 0.0, tau);
   const bool collided = s < t_max;
   const double tau0 = collided ? tau : optical_depth(o, d, 0.0, t_max);
@@ -125,7 +125,7 @@ float Haze::sample_scattering(const Vec3& o, const Vec3& d, float t_max, const S
   // Each wavelength's density of this outcome up to a common factor: k·e (collision) or e (passage),
   // e = exp(−(k − k_min)·τ₀) ≤ 1. The balance heuristic over the carried wavelengths divides the
   // contribution f/p_hero by the mean of r·p/p_hero; the common factor and p_hero cancel.
-  const float k_min = std::min(std::min(k.x, k.y), std::min(k.z, k.w));
+  const float k_min = min_component(k);
   SampledSpectrum p;
   for (int i = 0; i < kLambdaCount; ++i) {
     const float e = static_cast<float>(std::exp(-static_cast<double>(k[i] - k_min) * tau0));

@@ -114,7 +114,7 @@ BrfTable measure_brf(const Scene& scene, const EmbreeScene& embree, const Measur
     for (int s = first; s < std::min(n, first + kBlock); ++s) {
       Pcg32 rng(hash_ids(settings.seed, 0x6272665fu, view, static_cast<uint64_t>(s)));
       const Vec3 p = plot_point(scene.plot, top, rng);
-      const SampledWavelengths wl = wavelengths.sample(rng.uniform());
+      const SampledWavelengths wl = wavelengths.sample(rng.uniform(), rng.uniform());
       SampledSpectrum L = integrator.radiance(Ray{p, dir}, wl, rng, nullptr, rays);
       for (int i = 0; i < kLambdaCount; ++i)
         if (!std::isfinite(L[i])) L = SampledSpectrum(0.0f);
@@ -179,7 +179,7 @@ FluxTable measure_flux(const Scene& scene, const EmbreeScene& embree, const Meas
     for (int s = first; s < std::min(n, first + kBlock); ++s) {
       Pcg32 rng(hash_ids(settings.seed, 0x666c7578u, static_cast<uint64_t>(s)));
       const Vec3 p = plot_point(scene.plot, top, rng);
-      const SampledWavelengths wl = wavelengths.sample(rng.uniform());
+      const SampledWavelengths wl = wavelengths.sample(rng.uniform(), rng.uniform());
       const LightSample ls = integrator.sample_light(wl, rng);
       // The energy this path carries onto the plot's top plane: L cos θ / pdf per wavelength.
       SampledSpectrum incident(0.0f);

@@ -96,7 +96,7 @@ void expect_wavelengths_follow_pdf(const std::vector<Band>& bands, float lo, flo
   constexpr int n = 1'000'000;  // 4 wavelengths per draw: each marginally distributed by the pdf
   std::vector<double> obs(bins, 0.0), exp(bins, 0.0);
   for (int i = 0; i < n; ++i) {
-    const SampledWavelengths wl = s.sample(rng.uniform());
+    const SampledWavelengths wl = s.sample(rng.uniform(), rng.uniform());
     const float l = wl.lambda_nm[i % kLambdaCount];
     ASSERT_GT(wl.pdf[i % kLambdaCount], 0.0f);
     ASSERT_EQ(wl.pdf[i % kLambdaCount], s.pdf(l)) << l;
@@ -139,7 +139,7 @@ TEST(Sampling, WavelengthSamplerSpikeOnFaintFloor) {
 
 TEST(Sampling, HeroWavelengthsAreStratified) {
   const WavelengthSampler s({resolve_band("rgb")});
-  const SampledWavelengths wl = s.sample(0.1f);
+  const SampledWavelengths wl = s.sample(0.1f, 0.5f);
   for (int i = 1; i < kLambdaCount; ++i) EXPECT_NE(wl.lambda_nm[i], wl.lambda_nm[0]);
 }
 

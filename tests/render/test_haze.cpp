@@ -72,10 +72,10 @@ TEST(Haze, OpticalDepthIsTheIntegralOfExtinction) {
 
 TEST(Haze, FreeFlightFollowsBeerLambert) {
   // With albedo 1, E[β·1{the path passes t}] per wavelength must equal exp(−k(λ)·τ₀(t)) when the
-  // hero (the first carried wavelength) is each of the carried ones equally often, as the
-  // renderer's wavelength sampler makes it; the wavelengths differ, so the MIS weights matter.
+  // hero (SampledWavelengths::hero) is each of the carried ones equally often, as the renderer's
+  // wavelength sampler makes it; the wavelengths differ, so the MIS weights matter.
   SampledWavelengths wl;
-  wl.lambda_nm = SampledSpectrum(420.0f, 550.0f, 700.0f, 900.0f);
+  wl.lambda_nm = SampledSpectrum(Vec4(420.0f, 550.0f, 700.0f, 900.0f));
   struct Case {
     HazeDesc desc;
     Vec3 o, d;
@@ -96,15 +96,14 @@ TEST(Haze, FreeFlightFollowsBeerLambert) {
     constexpr int n = 200000;
     SampledSpectrum sum(0.0f), sum2(0.0f);
     for (int i = 0; i < n; ++i) {
-      const int hero = i % kLambdaCount;
-      SampledWavelengths rotated;
-      for (int k = 0; k < kLambdaCount; ++k) rotated.lambda_nm[k] = wl.lambda_nm[(k + hero) % kLambdaCount];
+      SampledWavelengths hero = wl;
+      hero.hero = i % kLambdaCount;
       SampledSpectrum beta(1.0f), ratio(1.0f);
-      const float s = haze.sample_scattering(c.o, c.d, c.t, rotated, rng.uniform(), beta, ratio);
+      const float s = haze.sample_scattering(c.o, c.d, c.t, hero, rng.uniform(), beta, ratio);
       EXPECT_NEAR(average(ratio), 1.0f, 1e-5f);
       if (s < c.t) continue;
       for (int k = 0; k < kLambdaCount; ++k) {
-        const float b = beta[(k - hero + kLambdaCount) % kLambdaCount];
+        const float b = beta[k];
         sum[k] += b;
         sum2[k] += b * b;
       }

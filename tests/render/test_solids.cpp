@@ -193,7 +193,7 @@ void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& ori
     std::vector<SampledWavelengths> wls;
     for (int k = 0; k < n; ++k) {
       rngs.emplace_back(1000 + start + static_cast<size_t>(k));
-      wls.push_back(sampler.sample(rngs.back().uniform()));
+      wls.push_back(sampler.sample(rngs.back().uniform(), rngs.back().uniform()));
       const Vec3 target(rngs.back().symmetric() * 3.0f, rngs.back().symmetric() * 3.0f, 0.5f);
       rays_in.push_back(Ray{origins[start + static_cast<size_t>(k)],
                             glm::normalize(target - origins[start + static_cast<size_t>(k)])});
@@ -225,8 +225,9 @@ void expect_batched_paths_match(const Scene& scene, const std::vector<Vec3>& ori
   // More paths than the batch holds: an error, not an overflow.
   Pcg32 rng(5);
   PathSampler path_sampler(rng);
-  std::vector<PathState> too_many(Integrator::kMaxPaths + 1, PathState(Ray{origins[0], Vec3(0, 0, -1)},
-                                                                       sampler.sample(0.5f), path_sampler, nullptr));
+  std::vector<PathState> too_many(
+      Integrator::kMaxPaths + 1,
+      PathState(Ray{origins[0], Vec3(0, 0, -1)}, sampler.sample(0.5f, 0.5f), path_sampler, nullptr));
   uint64_t rays = 0;
   EXPECT_THROW(integrator.trace_paths(too_many, rays), Error);
 }

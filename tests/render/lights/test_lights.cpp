@@ -62,7 +62,7 @@ TEST(Lights, CieSkyWithGroundChi2AndRadiance) {
   wl.lambda_nm = SampledSpectrum(600.0f);
   const float expected =
       0.3f / kPi * (sun.irradiance.eval(600.0f) * std::sin(radians(40.0f)) + sky.spectrum.eval(600.0f));
-  EXPECT_NEAR(env.eval(glm::normalize(Vec3(0.3f, 0.2f, -0.5f)), wl).x, expected, 1e-5f * expected);
+  EXPECT_NEAR(env.eval(glm::normalize(Vec3(0.3f, 0.2f, -0.5f)), wl)[0], expected, 1e-5f * expected);
   // A ground needs the CIE sky.
   SkyDesc uniform;
   uniform.model = UniformSky{};
@@ -173,7 +173,7 @@ TEST(Lights, SolarDiscSamplesAndIrradiance) {
     const LightSample s = env.sample(Vec2(rng.uniform(), rng.uniform()), rng.uniform(), wl);
     ASSERT_TRUE(env.in_sun(s.wi));
     ASSERT_GT(s.pdf, 0.0f);
-    e += s.radiance.x * glm::dot(s.wi, axis) / s.pdf;
+    e += s.radiance[0] * glm::dot(s.wi, axis) / s.pdf;
   }
   EXPECT_NEAR(e / n, sun.irradiance.eval(550.0f), 1e-3 * sun.irradiance.eval(550.0f));
 }
@@ -197,7 +197,7 @@ TEST(Lights, SkyHorizontalIrradianceMatchesItsSpectrum) {
       for (int i = 0; i < np; ++i) {
         const double theta = (j + 0.5) * M_PI / 2 / nt, phi = (i + 0.5) * 2 * M_PI / np;
         const Vec3 d = spherical_direction(float(std::sin(theta)), float(std::cos(theta)), float(phi));
-        e += env.eval_sky(d, wl).x * std::cos(theta) * std::sin(theta) * (M_PI / 2 / nt) * (2 * M_PI / np);
+        e += env.eval_sky(d, wl)[0] * std::cos(theta) * std::sin(theta) * (M_PI / 2 / nt) * (2 * M_PI / np);
       }
     EXPECT_NEAR(e, sky.spectrum.eval(500.0f), 0.01 * sky.spectrum.eval(500.0f)) << "CIE type " << type;
   }
@@ -256,7 +256,7 @@ double horizontal_from_radiance(const Environment& env, float lambda_nm) {
     for (int i = 0; i < np; ++i) {
       const double theta = (j + 0.5) * M_PI / 2 / nt, phi = (i + 0.5) * 2 * M_PI / np;
       const Vec3 d = spherical_direction(float(std::sin(theta)), float(std::cos(theta)), float(phi));
-      e += env.eval_sky(d, wl).x * std::cos(theta) * std::sin(theta) * (M_PI / 2 / nt) * (2 * M_PI / np);
+      e += env.eval_sky(d, wl)[0] * std::cos(theta) * std::sin(theta) * (M_PI / 2 / nt) * (2 * M_PI / np);
     }
   return e;
 }
@@ -295,7 +295,7 @@ Vec3 sky_rgb(const Environment& env, const Vec3& d) {
   for (int i = 0; i < kLambdaSamples; i += 2) {
     SampledWavelengths wl;
     wl.lambda_nm = SampledSpectrum(DenseSpectrum::grid_lambda(i));
-    const float l = env.eval_sky(d, wl).x;
+    const float l = env.eval_sky(d, wl)[0];
     for (int k = 0; k < 3; ++k) c[k] += 2.0f * l * rgb.weights[static_cast<size_t>(k)][i];
   }
   return c;

@@ -20,7 +20,7 @@ Vec3 dir(float theta, float phi) {
 
 TEST(LeafMedium, PhaseIntegratesToAlbedo) {
   const LeafPhase phase =
-      make_leaf_phase(SampledSpectrum(0.1f, 0.3f, 0.45f, 0.0f), SampledSpectrum(0.05f, 0.2f, 0.5f, 0.7f));
+      make_leaf_phase(SampledSpectrum(Vec4(0.1f, 0.3f, 0.45f, 0.0f)), SampledSpectrum(Vec4(0.05f, 0.2f, 0.5f, 0.7f)));
   const Vec3 a = glm::normalize(Vec3(0.3f, -0.2f, 0.9f));
   glm::dvec4 sum(0.0);
   double pdf_sum = 0.0;
@@ -30,7 +30,7 @@ TEST(LeafMedium, PhaseIntegratesToAlbedo) {
       const float z = -1.0f + 2.0f * (i + 0.5f) / n, phi = kTwoPi * (j + 0.5f) / (2 * n);
       const Vec3 b = dir(std::acos(z), phi);
       const float w = (2.0f / n) * (kTwoPi / (2 * n));
-      sum += glm::dvec4(eval_leaf_phase(phase, a, b)) * static_cast<double>(w);
+      sum += glm::dvec4(eval_leaf_phase(phase, a, b).block(0)) * static_cast<double>(w);
       pdf_sum += leaf_phase_pdf(phase, a, b) * w;
     }
   const SampledSpectrum albedo = phase.reflect + phase.transmit;

@@ -112,9 +112,9 @@ TEST(Materials, LeafEnergyIsReflectancePlusTransmittance) {
       BsdfSample s;
       ASSERT_TRUE(bsdf.sample(wo, Vec2(rng.uniform(), rng.uniform()), rng.uniform(), &s));
       // The sample weight equals f·|cos|/pdf computed from eval and pdf.
-      const float expect = bsdf.eval(wo, s.wi).x * std::abs(s.wi.z) / s.pdf;
-      ASSERT_NEAR(s.value.x, expect, 1e-4f);
-      (s.transmitted ? transmit : reflect) += s.value.x;
+      const float expect = bsdf.eval(wo, s.wi)[0] * std::abs(s.wi.z) / s.pdf;
+      ASSERT_NEAR(s.value[0], expect, 1e-4f);
+      (s.transmitted ? transmit : reflect) += s.value[0];
     }
     EXPECT_NEAR(reflect / n, front ? 0.2 : 0.1, 0.005);
     EXPECT_NEAR(transmit / n, 0.45, 0.005);
