@@ -1,7 +1,9 @@
 // `sylva compare`: statistical comparison of a render against a reference (compare/image_compare.h).
 
 #include "app/commands.h"
+#include "compare/assumptions.h"
 #include "compare/compare_report.h"
+#include "compare/compare_results.h"
 #include "compare/image_compare.h"
 #include "core/error.h"
 #include "core/image.h"
@@ -43,7 +45,7 @@ std::pair<std::string, double> parse_tolerance(const std::string& text) {
 }
 
 struct CompareArgs {
-  std::string test, ref, test_var, ref_var, report;
+  std::string test, ref, test_var, ref_var, report, json, junit;
   double alpha = 0.01;
   std::string max_reject = "0.25%";
   std::vector<std::string> channels, exact_channels, tolerances;
@@ -51,12 +53,16 @@ struct CompareArgs {
   double fail_percent = 0.0;
   double bias_alpha = 1e-3;
   int bias_tile = 16;
+  int bias_grid = 4;
+  int64_t region_min_pixels = 64;
+  bool allow_same_seed = false;
+  std::vector<std::string> allowed_differences;
   float diff_scale = 16.0f;
   std::string view = "Standard";
   float exposure_ev = 0.0f;
 };
 
-int run_compare(const CompareArgs& a) {
+CompareOptions compare_options(const CompareArgs& a) {
   CompareOptions options;
   options.alpha = a.alpha;
   options.max_reject_fraction = parse_fraction(a.max_reject, "--max-reject");
@@ -67,15 +73,28 @@ int run_compare(const CompareArgs& a) {
   options.fail_percent = a.fail_percent;
   options.bias_alpha = a.bias_alpha;
   options.bias_tile = a.bias_tile;
+  options.bias_grid = a.bias_grid;
+  options.region_min_pixels = a.region_min_pixels;
+  return options;
+}
 
+// The comparison itself; fills `record` as it goes (its result stays null if the inputs are
+// unusable or refused, and the sylva::Error propagates).
+void compare_files(const CompareArgs& a, CompareResult& result, ComparisonRecord& record) {
+  const CompareOptions options = compare_options(a);
   const Image test = read_exr(a.test);
   const Image ref = read_exr(a.ref);
   std::optional<Image> test_var, ref_var;
   if (!a.test_var.empty()) test_var = read_exr(a.test_var);
   if (!a.ref_var.empty()) ref_var = read_exr(a.ref_var);
-
-  const CompareResult result =
-      compare_images(test, ref, options, test_var ? &*test_var : nullptr, ref_var ? &*ref_var : nullptr);
+  record.assumptions = check_assumptions(test, ref, AssumptionOptions{a.allow_same_seed, a.allowed_differences});
+  if (record.assumptions.refused()) {
+    record.refused = true;
+    throw RefusedComparison("refused: " + record.assumptions.refusal());
+  }
+  for (const AssumptionFinding& f : record.assumptions.findings) fmt::print("note: {}\n", f.message);
+  result = compare_images(test, ref, options, test_var ? &*test_var : nullptr, ref_var ? &*ref_var : nullptr);
+  record.result = &result;
   fmt::print("{} vs {}\n{}", a.test, a.ref, format_compare_summary(result));
   if (!a.report.empty()) {
     ReportOptions report;
@@ -87,8 +106,29 @@ int run_compare(const CompareArgs& a) {
     write_compare_report(a.report, test, ref, result, report);
     fmt::print("report: {}/index.html\n", a.report);
   }
+}
+
+int run_compare(const CompareArgs& a, const std::string& command) {
+  CompareResult result;
+  ComparisonRecord record;
+  record.name = "compare";
+  record.test = a.test;
+  record.reference = a.ref;
+  const auto write_results = [&] {
+    if (!a.json.empty()) write_text_file(a.json, results_json({record}, command));
+    if (!a.junit.empty()) write_text_file(a.junit, results_junit({record}, "sylva compare"));
+  };
+  try {
+    compare_files(a, result, record);
+  } catch (const Error& e) {
+    record.result = nullptr;
+    record.error = e.what();
+    write_results();
+    throw;
+  }
+  write_results();
   std::fflush(stdout);
-  return result.passed ? 0 : 1;
+  return results_exit_code({record});
 }
 
 }  // namespace
@@ -125,12 +165,30 @@ CommandRun add_compare_command(CLI::App& parent) {
       ->needs(fail)
       ->check(kFiniteNumber & CLI::Range(0.0, 100.0));
   cmd->add_option("--bias-alpha", args->bias_alpha,
-                  "Level of the mean-bias tests over the image and over tiles (0 disables them)")
+                  "Family-wise level of the local bias and variance tests (image, tiles, grid, id regions; Holm; 0 "
+                  "disables them)")
       ->capture_default_str()
       ->check(kFiniteNumber & CLI::Range(0.0, 0.5));
   cmd->add_option("--bias-tile", args->bias_tile, "Tile size of the local mean-bias test (0: whole image only)")
       ->capture_default_str()
       ->check(CLI::Range(0, 1 << 20));
+  cmd->add_option("--bias-grid", args->bias_grid,
+                  "Coarse grid of the local tests, cells per side (used when a cell is at least two tiles; 0: none)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1 << 16));
+  cmd->add_option("--region-min-pixels", args->region_min_pixels,
+                  "Smallest id.class, id.object or sky region given its own local tests")
+      ->capture_default_str()
+      ->check(CLI::Range(int64_t{1}, int64_t{1} << 40));
+  cmd->add_flag("--allow-same-seed", args->allow_same_seed,
+                "Compare images with the same seed (a determinism check; refused otherwise)");
+  cmd->add_option("--allow-difference", args->allowed_differences,
+                  "Header differences that are intended: scene, bands, quantity, spectral, depth, sampler, view, "
+                  "denoised, or all (refused otherwise)")
+      ->delimiter(',');
+  cmd->add_option("--json", args->json,
+                  "Write the results as JSON (compare/schemas/compare-results.schema.json), also when refused");
+  cmd->add_option("--junit", args->junit, "Write the results as JUnit XML: one case per channel and region");
   cmd->add_option("--report", args->report, "Write test/ref/error/pvalue EXRs, PNG previews and index.html here");
   cmd->add_option("--diff-scale", args->diff_scale, "k in the report's |diff| x k previews")
       ->check(kFiniteNumber & CLI::Range(0.0, 1e6))
@@ -140,7 +198,7 @@ CommandRun add_compare_command(CLI::App& parent) {
       ->capture_default_str();
   cmd->add_option("--view", args->view, "OCIO view of the report's previews (Standard, ACES, Raw)")
       ->capture_default_str();
-  return [args] { return run_compare(*args); };
+  return [args] { return run_compare(*args, fmt::format("sylva compare {} {}", args->test, args->ref)); };
 }
 
 }  // namespace sylva

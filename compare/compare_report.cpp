@@ -81,7 +81,7 @@ std::vector<PreviewItem> make_items(const CompareResult& result) {
       const ChannelReport& c = result.channels[i];
       item.tested += c.tested;
       item.rejected += c.rejected;
-      item.bias_failed = item.bias_failed || c.bias_failed || c.tile_failed;
+      item.bias_failed = item.bias_failed || c.regions_failed > 0;
       item.radiometric = item.radiometric && (c.test == ChannelTest::ZTest || c.test == ChannelTest::Threshold);
     }
     items.push_back(std::move(item));
@@ -124,6 +124,34 @@ std::vector<PreviewItem> make_items(const CompareResult& result) {
 }
 
 std::string format_share(double share) { return fmt::format("{:.4g}%", 100.0 * share); }
+
+// Failing local tests of the item's channels over the reject preview: id regions (class, object,
+// sky) tinted magenta, tiles and grid cells outlined in yellow.
+void mark_failing_regions(const Image& ref, const CompareResult& result, const PreviewItem& item,
+                          std::vector<uint8_t>& rgb) {
+  const auto set = [&](int x, int y, std::array<uint8_t, 3> colour, bool blend) {
+    const size_t p = (static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x)) * 3;
+    for (size_t k = 0; k < 3; ++k) rgb[p + k] = blend ? static_cast<uint8_t>((rgb[p + k] + colour[k]) / 2) : colour[k];
+  };
+  for (const RegionTest& t : result.regions) {
+    if (!t.failed() || t.kind == RegionKind::Image) continue;
+    if (std::none_of(item.channels.begin(), item.channels.end(), [&](const std::string& c) { return c == t.channel; }))
+      continue;
+    if (t.kind == RegionKind::Tile || t.kind == RegionKind::Grid) {
+      for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x)
+          if (x == t.x0 || x == t.x1 - 1 || y == t.y0 || y == t.y1 - 1) set(x, y, {255, 220, 0}, false);
+      continue;
+    }
+    const int c = ref.find_channel(t.kind == RegionKind::Class    ? "id.class"
+                                   : t.kind == RegionKind::Object ? "id.object"
+                                                                  : "id.instance");
+    if (c < 0) continue;
+    for (int y = t.y0; y < t.y1; ++y)
+      for (int x = t.x0; x < t.x1; ++x)
+        if (static_cast<int64_t>(ref.at(x, y, c)) == t.label) set(x, y, {255, 0, 255}, true);
+  }
+}
 
 // Writes the item's previews: test, reference and |diff|·k, and the rejecting pixels over the dimmed
 // reference (tiles failing the local bias test outlined).
@@ -189,21 +217,7 @@ void write_item_previews(const std::filesystem::path& dir, const Image& test, co
       for (size_t k = 0; k < 3; ++k)
         reject_rgb[p * 3 + k] = rejected ? (k == 0 ? 255 : 0) : static_cast<uint8_t>(ref_rgb[p * 3 + k] * 2 / 5);
     }
-  // Tiles failing the local mean-bias test get a yellow outline.
-  for (size_t i : item.result_channels) {
-    const ChannelReport& c = result.channels[i];
-    if (!c.tile_failed) continue;
-    const int x1 = std::min(ref.width, c.tile_x + result.bias_tile) - 1;
-    const int y1 = std::min(ref.height, c.tile_y + result.bias_tile) - 1;
-    for (int y = c.tile_y; y <= y1; ++y)
-      for (int x = c.tile_x; x <= x1; ++x)
-        if (x == c.tile_x || x == x1 || y == c.tile_y || y == y1) {
-          const size_t p = static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x);
-          reject_rgb[p * 3 + 0] = 255;
-          reject_rgb[p * 3 + 1] = 220;
-          reject_rgb[p * 3 + 2] = 0;
-        }
-  }
+  mark_failing_regions(ref, result, item, reject_rgb);
   write_png_rgb8(dir / (item.slug + "_reject.png"), ref.width, ref.height, reject_rgb);
 }
 
@@ -237,13 +251,9 @@ std::string html_verdict(const CompareResult& result, const ReportOptions& optio
   else
     h += fmt::format(
         "<p>Per-pixel z-test: rejecting pixel-channels <b>{}</b> ({} of {}), limit {}; per "
-        "pixel-channel &alpha; = {:.3g} (Šidák), |z| &gt; {:.3f}; mean-bias |z| &gt; "
-        "{:.3f}{}.</p>\n",
+        "pixel-channel &alpha; = {:.3g} (Šidák), |z| &gt; {:.3f}.</p>\n",
         format_share(result.reject_fraction), result.rejected, result.tested, format_share(result.limit),
-        result.alpha_pixel, result.z_critical, result.bias_z_critical,
-        result.bias_tile > 0
-            ? fmt::format(", per {0}&times;{0} tile |z| &gt; {1:.3f}", result.bias_tile, result.tile_z_critical)
-            : std::string());
+        result.alpha_pixel, result.z_critical);
   if (result.worst.x >= 0)
     h += fmt::format(
         "<p>Worst pixel ({}, {}) channel <code>{}</code>: test {:.6g}, reference {:.6g}, {} "
@@ -260,8 +270,8 @@ std::string html_channels(const CompareResult& result) {
   std::vector<const ChannelReport*> channels;
   for (const ChannelReport& c : result.channels) channels.push_back(&c);
   std::stable_sort(channels.begin(), channels.end(), [](const ChannelReport* a, const ChannelReport* b) {
-    const bool fa = a->rejected > 0 || a->bias_failed || a->tile_failed;
-    const bool fb = b->rejected > 0 || b->bias_failed || b->tile_failed;
+    const bool fa = a->rejected > 0 || a->regions_failed > 0;
+    const bool fb = b->rejected > 0 || b->regions_failed > 0;
     if (fa != fb) return fa;
     return a->reject_fraction() > b->reject_fraction();
   });
@@ -270,7 +280,7 @@ std::string html_channels(const CompareResult& result) {
        "<th>mean rel. diff</th><th>mean |rel. diff|</th><th>max |diff|</th><th>bias "
        "z</th><th>worst tile z</th></tr>\n";
   for (const ChannelReport* c : channels) {
-    const bool failing = c->rejected > 0 || c->bias_failed || c->tile_failed;
+    const bool failing = c->rejected > 0 || c->regions_failed > 0;
     const char* mode = c->test == ChannelTest::ZTest       ? "z-test"
                        : c->test == ChannelTest::Threshold ? "threshold"
                        : c->test == ChannelTest::Exact     ? "exact"
@@ -298,13 +308,46 @@ std::string html_channels(const CompareResult& result) {
   return h;
 }
 
+// The failing local tests, most significant first: where, z, mean shift, scatter.
+std::string html_regions(const CompareResult& result) {
+  if (result.family_size == 0) return {};
+  std::vector<const RegionTest*> failing;
+  for (const RegionTest& t : result.regions)
+    if (t.failed()) failing.push_back(&t);
+  std::stable_sort(failing.begin(), failing.end(), [](const RegionTest* a, const RegionTest* b) {
+    return std::min(a->bias_p_holm, a->variance_p_holm) < std::min(b->bias_p_holm, b->variance_p_holm);
+  });
+  std::string h = fmt::format(
+      "<h2>Local tests</h2>\n<p>{} bias and variance tests over the whole image{}{} and the id regions (class, "
+      "object, sky), Holm at &alpha; = {:.3g} (first |z| &gt; {:.3f}): <b>{} failing</b>.</p>\n",
+      result.family_size, result.bias_tile > 0 ? fmt::format(", {0}&times;{0} tiles", result.bias_tile) : std::string(),
+      result.bias_grid_cell > 0 ? fmt::format(", {0}&times;{0} grid cells", result.bias_grid_cell) : std::string(),
+      result.bias_alpha, result.bias_z_critical, failing.size());
+  if (failing.empty()) return h;
+  h += "<table id=\"regions\">\n<tr><th>channel</th><th>region</th><th>where (x, y)</th><th>pixels</th>"
+       "<th>bias z</th><th>mean shift</th><th>scatter</th><th>Holm p (bias, scatter)</th></tr>\n";
+  for (size_t i = 0; i < failing.size() && i < 200; ++i) {
+    const RegionTest& t = *failing[i];
+    h += fmt::format(
+        "<tr class=\"fail\"><td>{}</td><td>{}</td><td>{}&ndash;{}, {}&ndash;{}</td><td>{}</td><td>{:+.2f}{}</td>"
+        "<td>{:+.3g}%</td><td>{:.3g}{}</td><td>{:.3g}, {:.3g}</td></tr>\n",
+        html_escape(t.channel), html_escape(region_name(t)), t.x0, t.x1 - 1, t.y0, t.y1 - 1, t.pixels, t.bias_z,
+        t.bias_failed ? " (fails)" : "", 100.0 * t.mean_shift, t.variance_ratio, t.variance_failed ? " (fails)" : "",
+        t.bias_p_holm, t.variance_p_holm);
+  }
+  h += "</table>\n";
+  if (failing.size() > 200) h += fmt::format("<p>&hellip; and {} more.</p>\n", failing.size() - 200);
+  return h;
+}
+
 // The preview images, failing groups first.
 std::string html_images(const CompareResult& result, const ReportOptions& options,
                         const std::vector<PreviewItem>& items) {
   std::string h;
   h += fmt::format(
       "<h2>Images</h2>\n<p>|diff| is scaled by k = {:g}; rejecting pixels are red over the dimmed "
-      "reference; a tile failing the local mean-bias test is outlined in yellow. Previews use the "
+      "reference; a failing tile or grid cell of the local tests is outlined in yellow, a failing id region "
+      "(class, object, sky) tinted magenta. Previews use the "
       "OCIO view &ldquo;{}&rdquo;; data channels (depth, normals, ids) are "
       "mapped from the reference's range to black&ndash;white.</p>\n",
       options.diff_scale, html_escape(options.view));
@@ -313,7 +356,7 @@ std::string html_images(const CompareResult& result, const ReportOptions& option
         "<section class=\"item\" id=\"item-{}\">\n<h3>{} <span class=\"{}\">{}</span> &mdash; {} "
         "rejected ({} of {}){}</h3>\n<div class=\"row\">\n",
         item.slug, html_escape(item.label), item.failing() ? "fail" : "pass", item.failing() ? "FAIL" : "pass",
-        format_share(item.share()), item.rejected, item.tested, item.bias_failed ? ", mean bias" : "");
+        format_share(item.share()), item.rejected, item.tested, item.bias_failed ? ", local tests" : "");
     const std::array<std::pair<const char*, std::string>, 4> figures{
         std::pair{"_test.png", "test"}, std::pair{"_ref.png", "reference"},
         std::pair{"_diff.png", fmt::format("|diff| &times; {:g}", options.diff_scale)},
@@ -334,6 +377,7 @@ std::string report_html(const CompareResult& result, const ReportOptions& option
   std::string h;
   h += html_verdict(result, options);
   h += html_channels(result);
+  h += html_regions(result);
   h += html_images(result, options, items);
   h += "<h2>Files</h2>\n<p><a href=\"test.exr\">test.exr</a> &middot; <a "
        "href=\"ref.exr\">ref.exr</a> &middot; "

@@ -177,6 +177,12 @@ GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(Rend
   const bool without_labels = ref.find_channel("id.class") < 0;
   const std::vector<std::string> labels{"id.class", "id.variant"};
   if (without_labels) drop_channels(out.test, labels);
+  AssumptionOptions intended;
+  intended.allowed =
+      modify || !overrides.empty() ? std::vector<std::string>{"all"} : std::vector<std::string>{"scene", "sampler"};
+  out.assumptions = check_assumptions(out.test, ref, intended);
+  if (out.assumptions.refused())
+    throw RefusedComparison(fmt::format("{}: refused: {}", c.name, out.assumptions.refusal()));
   out.compare = compare_images(out.test, ref, compare);
   Image det = render_golden(loaded, options, g.determinism_spp, g.determinism_seed, adjust);
   if (without_labels) drop_channels(det, labels);

@@ -9,6 +9,7 @@
 // with the reference (compare/image_compare.h), and re-renders the determinism image. Every render
 // goes through the render call (pipeline/render_call.h): the case loaded once, rendered twice.
 
+#include "compare/assumptions.h"
 #include "compare/image_compare.h"
 #include "core/image.h"
 #include "render/testing/faults.h"
@@ -68,6 +69,7 @@ struct GoldenCheck {
   std::string determinism_hash;  // what this build produced
   bool determinism_matches = false;
   bool determinism_checked = true;  // false with overrides: the scene is not the recorded one
+  AssumptionReport assumptions;     // the check render's header against the reference's
 };
 // `adjust` and `modify` change the settings and the scene before the check renders, and `faults`
 // injects transport faults (the power tests use them to show regressions are caught; a plain check
@@ -75,6 +77,10 @@ struct GoldenCheck {
 // `overrides` (`--set`) change the case's scene file: the check then shows whether the comparison
 // tells that scene from the reference; the scene-hash precondition and the determinism hash are
 // not checked (determinism_checked is false).
+// The check render's header is checked against the reference's (compare/assumptions.h): the scene
+// hash is the record's to check and the sampler may differ (references kept across samplers);
+// with `modify` or `overrides` every difference is intended. Any other difference, or a check seed
+// equal to the reference's, throws RefusedComparison.
 GoldenCheck check_golden_case(const GoldenCase& c, const std::function<void(RenderSettings&)>& adjust = {},
                               const std::function<void(Scene&)>& modify = {}, const TransportFaults& faults = {},
                               const std::vector<std::string>& overrides = {});

@@ -260,33 +260,6 @@ void check_compare_inputs(const Image& test, const Image& ref, const CompareOpti
   if (options.fail_threshold && !(*options.fail_threshold >= 0.0)) throw Error("--fail threshold must be >= 0");
 }
 
-// Tiles of the mean-bias test: size × size pixels, partial at the right and bottom edges; the sums
-// of one channel's differences and variances per tile.
-struct BiasTiles {
-  int size = 0;
-  size_t nx = 0, ny = 0;
-  size_t width = 0;
-  bool on = false;
-  std::vector<double> sum_d, sum_var;
-
-  size_t index(size_t p) const {
-    const size_t x = p % width, y = p / width;
-    return (y / static_cast<size_t>(size)) * nx + x / static_cast<size_t>(size);
-  }
-};
-
-BiasTiles bias_tiles(const Image& ref, const CompareOptions& options, bool bias_on) {
-  BiasTiles t;
-  t.size = options.bias_tile > 0 ? options.bias_tile : std::max(ref.width, ref.height);
-  t.nx = static_cast<size_t>((ref.width + t.size - 1) / t.size);
-  t.ny = static_cast<size_t>((ref.height + t.size - 1) / t.size);
-  t.width = static_cast<size_t>(ref.width);
-  t.on = bias_on && options.bias_tile > 0 && t.nx * t.ny > 1;
-  t.sum_d.assign(t.nx * t.ny, 0.0);
-  t.sum_var.assign(t.nx * t.ny, 0.0);
-  return t;
-}
-
 // One pixel-channel's verdict under its channel's test. `bias_var` is its variance when it enters
 // the bias sums (a z-tested, finite pixel that does not reject on its own), else NaN.
 struct PixelVerdict {
@@ -344,31 +317,16 @@ PixelVerdict test_pixel(const ChannelPlan& plan, const CompareOptions& options, 
   return v;
 }
 
-// The channel's tile of largest |z| in the mean-bias test, and whether it fails.
-void worst_bias_tile(const BiasTiles& tiles, const CompareResult& result, ChannelReport& report) {
-  for (size_t k = 0; k < tiles.sum_d.size(); ++k) {
-    const double z =
-        tiles.sum_var[k] > 0.0 ? tiles.sum_d[k] / std::sqrt(tiles.sum_var[k]) : (tiles.sum_d[k] == 0.0 ? 0.0 : kInf);
-    if (report.tile_x < 0 || std::abs(z) > std::abs(report.tile_z)) {
-      report.tile_z = z;
-      report.tile_x = static_cast<int>(k % tiles.nx) * tiles.size;
-      report.tile_y = static_cast<int>(k / tiles.nx) * tiles.size;
-    }
-  }
-  report.tile_failed = std::abs(report.tile_z) > result.tile_z_critical;
-}
-
 // Tests every pixel of channel `ci` (plan): writes its error and p-value planes, marks failing
 // pixels, keeps the worst pixel (by `worst_badness`) and returns the channel's report.
+// `sums` (null: no local tests of this channel) receives the pixels that enter the bias sums.
 ChannelReport compare_channel(const ChannelPlan& plan, size_t ci, const Image& test, const Image& ref,
-                              const CompareOptions& options, bool bias_on, BiasTiles& tiles,
-                              std::vector<uint8_t>& pixel_failed, double& worst_badness, CompareResult& result) {
+                              const CompareOptions& options, RegionSums* sums, std::vector<uint8_t>& pixel_failed,
+                              double& worst_badness, CompareResult& result) {
   ChannelReport report;
   report.name = plan.name;
   report.test = plan.test;
-  double sum_d = 0.0, sum_abs_d = 0.0, sum_abs_ref = 0.0, sum_var = 0.0, bias_sum_d = 0.0;
-  std::fill(tiles.sum_d.begin(), tiles.sum_d.end(), 0.0);
-  std::fill(tiles.sum_var.begin(), tiles.sum_var.end(), 0.0);
+  double sum_d = 0.0, sum_abs_d = 0.0, sum_abs_ref = 0.0;
   const size_t tnc = test.channels.size(), rnc = ref.channels.size();
   const size_t pixel_count = pixel_failed.size();
   for (size_t p = 0; p < pixel_count; ++p) {
@@ -377,13 +335,7 @@ ChannelReport compare_channel(const ChannelPlan& plan, size_t ci, const Image& t
     const double d = t == r ? 0.0 : t - r;
     const bool finite = std::isfinite(t) && std::isfinite(r);
     const PixelVerdict v = test_pixel(plan, options, result, t, r, p);
-    if (!std::isnan(v.bias_var)) {
-      bias_sum_d += d;
-      sum_var += v.bias_var;
-      const size_t tile = tiles.index(p);
-      tiles.sum_d[tile] += d;
-      tiles.sum_var[tile] += v.bias_var;
-    }
+    if (sums != nullptr && !std::isnan(v.bias_var)) sums->add(p, d, v.bias_var, r);
     ++report.tested;
     if (v.reject) {
       ++report.rejected;
@@ -408,19 +360,50 @@ ChannelReport compare_channel(const ChannelPlan& plan, size_t ci, const Image& t
   }
   report.mean_rel_diff = sum_abs_ref > 0.0 ? sum_d / sum_abs_ref : (sum_d == 0.0 ? 0.0 : kInf);
   report.mean_abs_rel_diff = sum_abs_ref > 0.0 ? sum_abs_d / sum_abs_ref : (sum_abs_d == 0.0 ? 0.0 : kInf);
-  if (plan.test == ChannelTest::ZTest && bias_on) {
-    report.bias_z = sum_var > 0.0 ? bias_sum_d / std::sqrt(sum_var) : (bias_sum_d == 0.0 ? 0.0 : kInf);
-    report.bias_failed = std::abs(report.bias_z) > result.bias_z_critical;
-  }
-  if (plan.test == ChannelTest::ZTest && tiles.on) worst_bias_tile(tiles, result, report);
   return report;
+}
+
+// The local tests' verdicts (Holm over the family) into the channel reports: the whole image's
+// bias z, the worst tile, the failing regions.
+void judge_regions(const CompareOptions& options, CompareResult& result) {
+  result.family_size = holm(result.regions, options.bias_alpha);
+  result.bias_alpha = options.bias_alpha;
+  result.bias_z_critical =
+      two_sided_z(options.bias_alpha / static_cast<double>(std::max<int64_t>(1, result.family_size)));
+  result.tile_z_critical = result.bias_z_critical;
+  for (ChannelReport& c : result.channels)
+    for (const RegionTest& t : result.regions) {
+      if (t.channel != c.name) continue;
+      c.regions_failed += t.failed() ? 1 : 0;
+      if (t.kind == RegionKind::Image) {
+        c.bias_z = t.bias_z;
+        c.bias_failed = t.failed();
+      } else if (t.kind == RegionKind::Tile) {
+        c.tile_failed = c.tile_failed || t.failed();
+        if (c.tile_x < 0 || std::abs(t.bias_z) > std::abs(c.tile_z)) {
+          c.tile_z = t.bias_z;
+          c.tile_x = t.x0;
+          c.tile_y = t.y0;
+        }
+      }
+    }
+}
+
+RegionOptions region_options(const CompareOptions& options) {
+  RegionOptions r;
+  r.tile = options.bias_tile;
+  r.grid = options.bias_grid;
+  r.min_pixels = options.region_min_pixels;
+  r.labels = options.label_regions;
+  r.variance = options.variance_test;
+  return r;
 }
 
 // The verdict: the share of rejecting pixel-channels (threshold mode: of failing pixels) against
 // the limit, and no failing mean-bias test.
 void decide(const CompareOptions& options, size_t pixel_count, CompareResult& result) {
   bool bias_failed = false;
-  for (const ChannelReport& c : result.channels) bias_failed = bias_failed || c.bias_failed || c.tile_failed;
+  for (const ChannelReport& c : result.channels) bias_failed = bias_failed || c.regions_failed > 0;
   if (result.threshold_mode) {
     // idiff: fail when nfail > failpercent/100 · npels.
     result.limit = options.fail_percent / 100.0;
@@ -453,7 +436,8 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   result.alpha_pixel = sidak(options.alpha, n_tests);
   result.z_critical = two_sided_z(result.alpha_pixel);
   const bool bias_on = options.bias_alpha > 0.0 && options.bias_alpha < 1.0 && !result.threshold_mode && z_channels > 0;
-  result.bias_z_critical = bias_on ? two_sided_z(sidak(options.bias_alpha, static_cast<double>(z_channels))) : kInf;
+  result.bias_z_critical = kInf;
+  result.tile_z_critical = kInf;
 
   std::vector<std::string> plane_names;
   for (const ChannelPlan& p : plans) plane_names.push_back(p.name);
@@ -463,21 +447,23 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   const int reject_c = result.error.channel_count() - 1;
   std::vector<uint8_t> pixel_failed(pixel_count, 0);
 
-  BiasTiles tiles = bias_tiles(ref, options, bias_on);
-  result.tile_z_critical =
-      tiles.on ? two_sided_z(sidak(options.bias_alpha,
-                                   static_cast<double>(static_cast<size_t>(z_channels) * tiles.nx * tiles.ny)))
-               : kInf;
-  result.bias_tile = tiles.on ? tiles.size : 0;
+  const RegionMaps maps = bias_on ? make_region_maps(ref, region_options(options)) : RegionMaps{};
+  result.bias_tile = maps.tile;
+  result.bias_grid_cell = maps.grid_cell;
 
   double worst_badness = -1.0;
   for (size_t ci = 0; ci < plans.size(); ++ci) {
-    ChannelReport report =
-        compare_channel(plans[ci], ci, test, ref, options, bias_on, tiles, pixel_failed, worst_badness, result);
+    std::optional<RegionSums> sums;
+    if (bias_on && plans[ci].test == ChannelTest::ZTest) sums.emplace(maps);
+    ChannelReport report = compare_channel(plans[ci], ci, test, ref, options, sums ? &*sums : nullptr, pixel_failed,
+                                           worst_badness, result);
+    if (sums)
+      for (RegionTest& t : sums->finish(plans[ci].name, options.variance_test)) result.regions.push_back(std::move(t));
     result.tested += report.tested;
     result.rejected += report.rejected;
     result.channels.push_back(std::move(report));
   }
+  if (bias_on) judge_regions(options, result);
   for (size_t p = 0; p < pixel_count; ++p) {
     result.error.pixels[p * result.error.channels.size() + static_cast<size_t>(reject_c)] = pixel_failed[p];
     result.failing_pixels += pixel_failed[p];
@@ -486,12 +472,32 @@ CompareResult compare_images(const Image& test, const Image& ref, const CompareO
   return result;
 }
 
+std::string format_failing_regions(const CompareResult& r, size_t limit) {
+  std::vector<const RegionTest*> failing;
+  for (const RegionTest& t : r.regions)
+    if (t.failed()) failing.push_back(&t);
+  if (failing.empty()) return {};
+  std::stable_sort(failing.begin(), failing.end(), [](const RegionTest* a, const RegionTest* b) {
+    return std::min(a->bias_p_holm, a->variance_p_holm) < std::min(b->bias_p_holm, b->variance_p_holm);
+  });
+  std::string s = fmt::format("  failing regions ({}):\n", failing.size());
+  for (size_t i = 0; i < failing.size() && i < limit; ++i) {
+    const RegionTest& t = *failing[i];
+    s += fmt::format(
+        "    {:<8} {:<18} x {}-{}, y {}-{}, {} px: bias z {:+.2f}{}, mean shift {:+.3g}%, scatter {:.3g}{}\n",
+        t.channel, region_name(t), t.x0, t.x1 - 1, t.y0, t.y1 - 1, t.pixels, t.bias_z, t.bias_failed ? "!" : "",
+        100.0 * t.mean_shift, t.variance_ratio, t.variance_failed ? "!" : "");
+  }
+  if (failing.size() > limit) s += fmt::format("    ... and {} more\n", failing.size() - limit);
+  return s;
+}
+
 std::string format_compare_summary(const CompareResult& r) {
   std::string s;
   bool bias_failed = false, tile_failed = false;
   for (const ChannelReport& c : r.channels) {
     bias_failed = bias_failed || c.bias_failed;
-    tile_failed = tile_failed || c.tile_failed;
+    tile_failed = tile_failed || c.regions_failed > 0;
   }
   s += fmt::format("{}: {}x{}, {}\n", r.passed ? "PASS" : "FAIL", r.width, r.height,
                    r.threshold_mode ? "threshold test (Cycles/idiff style)" : "per-pixel z-test");
@@ -502,12 +508,15 @@ std::string format_compare_summary(const CompareResult& r) {
     s += fmt::format("  rejecting pixel-channels: {:.4g}% ({} of {}), limit {:.4g}%{}\n", 100.0 * r.reject_fraction,
                      r.rejected, r.tested, 100.0 * r.limit,
                      bias_failed   ? "; mean-bias test FAILED"
-                     : tile_failed ? "; tile mean-bias test FAILED"
+                     : tile_failed ? "; local tests FAILED"
                                    : "");
-    s += fmt::format("  per pixel-channel: alpha {:.3g} (Sidak), |z| > {:.3f}; mean-bias |z| > {:.3f}", r.alpha_pixel,
-                     r.z_critical, r.bias_z_critical);
-    s += r.bias_tile > 0 ? fmt::format(", per {}x{} tile |z| > {:.3f}\n", r.bias_tile, r.bias_tile, r.tile_z_critical)
-                         : std::string("\n");
+    s += fmt::format("  per pixel-channel: alpha {:.3g} (Sidak), |z| > {:.3f}\n", r.alpha_pixel, r.z_critical);
+    if (r.family_size > 0)
+      s += fmt::format(
+          "  local tests: {} bias and variance tests (image{}{}, labels), Holm at alpha {:.3g}: first |z| > {:.3f}\n",
+          r.family_size, r.bias_tile > 0 ? fmt::format(", {0}x{0} tiles", r.bias_tile) : std::string(),
+          r.bias_grid_cell > 0 ? fmt::format(", {0}x{0} grid cells", r.bias_grid_cell) : std::string(), r.bias_alpha,
+          r.bias_z_critical);
     if (!r.variance_model.empty()) s += fmt::format("  variance of the difference: {}\n", r.variance_model);
   }
   if (r.worst.x >= 0)
@@ -526,6 +535,7 @@ std::string format_compare_summary(const CompareResult& r) {
                      c.tile_x >= 0
                          ? fmt::format("{:+.2f}{} at ({},{})", c.tile_z, c.tile_failed ? "!" : "", c.tile_x, c.tile_y)
                          : std::string("-"));
+  s += format_failing_regions(r, 12);
   if (!r.skipped.empty()) {
     std::string list;
     for (const std::string& c : r.skipped) list += (list.empty() ? "" : ", ") + c;

@@ -20,13 +20,14 @@
 // exact zeros pass. Identical values always pass (also equal infinities); otherwise a non-finite
 // test or reference value rejects.
 //
-// Mean-bias test (on by default): per channel, D = Σ d over pixels, Var(D) = Σ σ²,
-// z_bias = D / √Var(D) (pixels are independent estimates, so D is Gaussian by the CLT). It catches
-// small shifts (a +3% reflectance change) that no single low-spp pixel can. Two scales, each
-// Šidák-corrected at bias_alpha: the whole image (over channels) and bias_tile × bias_tile tiles
-// (over tiles × channels), the latter for changes confined to part of the image. Pixels that
-// reject on their own are left out of these sums (the share counts them), so one firefly cannot
-// fail a tile. A channel failing either scale fails the comparison.
+// Mean-bias and variance tests (on by default; compare/regions.h): per channel, D = Σ d over the
+// pixels of a region, Var(D) = Σ σ², z_bias = D / √Var(D) (pixels are independent estimates, so D
+// is Gaussian by the CLT), and the scatter mean(z²) against 1. They catch small shifts (a +3%
+// reflectance change) that no single low-spp pixel can. Regions: the whole image, bias_tile ×
+// bias_tile tiles, a coarse bias_grid × bias_grid grid, and per id.class, id.object and the sky
+// of the reference; every test of every channel and region is one family, held at bias_alpha by
+// Holm's step-down procedure. Pixels that reject on their own are left out of these sums (the
+// share counts them), so one firefly cannot fail a tile. Any failing region fails the comparison.
 //
 // Channel modes: exact_channels must match exactly; channels with an absolute tolerance reject
 // when |d| > tol; UInt channels (ids) not listed in either match exactly; the rest are statistical
@@ -36,6 +37,7 @@
 // -failpercent P`): a pixel fails when any tested channel has |d| > T; the image fails when
 // failing pixels > P% of all pixels.
 
+#include "compare/regions.h"
 #include "core/image.h"
 
 #include <cstdint>
@@ -56,7 +58,11 @@ struct CompareOptions {
   std::vector<std::pair<std::string, double>> abs_tolerances;  // channel → absolute tolerance
   double variance_rel_floor = 1e-5;                            // σ ≥ this · max(|test|, |ref|)
   double bias_alpha = 1e-3;              // mean-bias test level (per scale, Šidák); 0 disables it
-  int bias_tile = 16;                    // tile size of the local mean-bias test; 0: whole image only
+  int bias_tile = 16;                    // tile size of the local tests; 0: none
+  int bias_grid = 4;                     // coarse grid of the local tests, cells per side; 0: none
+  int64_t region_min_pixels = 64;        // smallest id.class / id.object / sky region tested
+  bool label_regions = true;             // local tests per id.class, id.object and the sky (ids of ref)
+  bool variance_test = true;             // per region, also test the scatter (regions.h)
   std::optional<double> fail_threshold;  // Cycles-style fallback: |d| > T fails a pixel ...
   double fail_percent = 0.0;             // ... and > P% failing pixels fail the image (idiff's default 0)
 };
@@ -69,11 +75,12 @@ struct ChannelReport {
   double mean_rel_diff = 0.0;      // Σ(test − ref) / Σ|ref| (signed; +0.03 for a +3% shift)
   double mean_abs_rel_diff = 0.0;  // Σ|test − ref| / Σ|ref|
   double max_abs_diff = 0.0;
-  double bias_z = 0.0;  // mean-bias z (ZTest channels with the bias test on)
-  bool bias_failed = false;
+  double bias_z = 0.0;           // whole-image mean-bias z (ZTest channels with the bias test on)
+  bool bias_failed = false;      // the whole image fails its bias or variance test
   double tile_z = 0.0;           // the tile mean-bias z of largest magnitude ...
   int tile_x = -1, tile_y = -1;  // ... and its tile's top-left pixel
-  bool tile_failed = false;
+  bool tile_failed = false;      // some tile fails
+  int64_t regions_failed = 0;    // failing regions of this channel, of every kind
   double reject_fraction() const {
     return tested > 0 ? static_cast<double>(rejected) / static_cast<double>(tested) : 0.0;
   }
@@ -99,9 +106,13 @@ struct CompareResult {
   double limit = 0.0;                   // max_reject_fraction, or fail_percent / 100
   double alpha_pixel = 0.0;             // Šidák-corrected per-pixel-channel level
   double z_critical = 0.0;              // |z| above which a pixel-channel rejects
-  double bias_z_critical = 0.0;
-  double tile_z_critical = 0.0;
-  int bias_tile = 0;  // tile size used (0: no tile test)
+  double bias_z_critical = 0.0;         // Holm's first step: |z| above which the most extreme test fails
+  double tile_z_critical = 0.0;         // the same (one family)
+  int bias_tile = 0;                    // tile size used (0: no tile test)
+  int bias_grid_cell = 0;               // coarse grid cell size used (0: none)
+  int64_t family_size = 0;              // tests in the Holm family
+  double bias_alpha = 0.0;              // its level
+  std::vector<RegionTest> regions;      // every region test, per channel in channel order
   WorstPixel worst;
   bool passed = false;
   // Per tested channel (same order as `channels`): error holds |z| (or |d|/tol, exact: 0/1) plus
@@ -119,8 +130,10 @@ struct CompareResult {
 CompareResult compare_images(const Image& test, const Image& ref, const CompareOptions& options,
                              const Image* test_var = nullptr, const Image* ref_var = nullptr);
 
-// Human-readable summary (verdict, rejecting share, worst pixel, per-channel figures).
+// Human-readable summary (verdict, rejecting share, worst pixel, per-channel figures, failing regions).
 std::string format_compare_summary(const CompareResult& result);
+// The failing regions, most significant first, at most `limit` lines (empty if none fails).
+std::string format_failing_regions(const CompareResult& result, size_t limit);
 
 // Two-sided standard-normal p-value and its inverse (|z| with that p).
 double two_sided_p(double z);

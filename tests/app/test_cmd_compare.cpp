@@ -99,6 +99,35 @@ TEST_F(CompareCommand, UnusableInputExitsTwoWithAClearMessage) {
   EXPECT_EQ(no_args.exit_code, 2);
 }
 
+TEST_F(CompareCommand, SameSeedAndOtherSettingsAreRefusedUnlessIntended) {
+  write("ref.exr", 4096, 1.0f, 1);
+  write("test.exr", 64, 1.0f, 2);
+  const auto stamp = [&](const std::string& name, const std::string& seed, const std::string& bands) {
+    Image image = read_exr(dir_ / name);
+    image.set_attribute("sylva:seed", seed);
+    image.set_attribute("sylva:bands", bands);
+    write_exr(dir_ / name, image);
+  };
+  stamp("ref.exr", "1", "rgb");
+  stamp("test.exr", "1", "rgb");
+  const std::string both = path("test.exr") + " " + path("ref.exr");
+  const CommandResult same = run(both);
+  EXPECT_EQ(same.exit_code, 2) << same.out << same.err;
+  EXPECT_NE(same.err.find("sylva: refused: the test and reference have the same seed (1)"), std::string::npos)
+      << same.err;
+  const CommandResult allowed = run(both + " --allow-same-seed");
+  EXPECT_EQ(allowed.exit_code, 0) << allowed.out << allowed.err;
+  EXPECT_NE(allowed.out.find("note: the test and reference have the same seed"), std::string::npos) << allowed.out;
+  stamp("test.exr", "2", "rgb,nir");
+  const CommandResult bands = run(both);
+  EXPECT_EQ(bands.exit_code, 2) << bands.out << bands.err;
+  EXPECT_NE(bands.err.find("sylva:bands differs: test rgb,nir, reference rgb (pass --allow-difference bands"),
+            std::string::npos)
+      << bands.err;
+  EXPECT_EQ(run(both + " --allow-difference bands").exit_code, 0);
+  EXPECT_EQ(run(both + " --allow-difference colour").exit_code, 2);
+}
+
 TEST_F(CompareCommand, CompanionVarianceFile) {
   write("ref_full.exr", 4096, 1.0f, 1);
   write("test.exr", 64, 1.0f, 2, false);

@@ -179,6 +179,7 @@ TEST(ImageCompare, LocalThreePercentShiftFailsTheTileTest) {
   EXPECT_GE(tiles_failed, 2);
   CompareOptions no_tiles;
   no_tiles.bias_tile = 0;
+  no_tiles.bias_grid = 0;
   EXPECT_TRUE(compare_images(draw_image(patch, 61), draw_image(kReference, 62), no_tiles).passed);
 }
 
