@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/output_paths.h"
 #include "denoise/denoise_image.h"
+#include "pipeline/sensor_stage.h"
 #include "render/session.h"
 #include "scenes/sidecar.h"
 
@@ -31,6 +32,19 @@ Image output_image(const Renderer& renderer, const Film& film, const SceneFile& 
   image = denoise_image(image, settings, &stats);
   observer.on_message(fmt::format("denoised in {:.2f} s", stats.seconds));
   return image;
+}
+
+// The scene's [sensor] applied to the finished image and written beside its outputs.
+Image sense(const SceneFile& file, const RenderSettings& settings, const Image& image, const OutputPaths& outputs,
+            RenderObserver& observer) {
+  SensedImage sensed = run_sensor_stage(file, settings, image, outputs.exr, outputs.png);
+  if (sensed.image.pixels.empty()) return {};
+  observer.on_message(
+      fmt::format("sensor: {}x{} detectors ({:.3g} render pixels each, GSD {:.3g} m), {:.3g} ms "
+                  "integration, in {:.2f} s",
+                  sensed.grid.width, sensed.grid.height, sensed.grid.ratio, sensed.gsd_m,
+                  sensed.integration_time_s * 1e3, sensed.seconds));
+  return std::move(sensed.image);
 }
 
 std::string scene_stats_line(const EmbreeStats& es) {
@@ -72,6 +86,7 @@ RenderResult render_film(const LoadedScene& loaded, RenderSettings settings, con
   result.image = output_image(renderer, film, file, options, observer);
   if (!result.outputs.exr.empty())
     write_render_outputs(renderer, result.image, file, result.outputs.exr, result.outputs.png, options.preview);
+  result.sensor = sense(file, renderer.settings(), result.image, result.outputs, observer);
   return result;
 }
 
@@ -108,6 +123,7 @@ RenderResult render_image(const LoadedScene& loaded, const RenderSettings& setti
   result.image = output_image(session.renderer(), rendered.film, file, options, observer);
   try {
     write_render_outputs(session.renderer(), result.image, file, outputs.exr, outputs.png, options.preview);
+    result.sensor = sense(file, session.renderer().settings(), result.image, outputs, observer);
   } catch (const Error& e) {
     throw Error(
         fmt::format("{}\nthe rendered samples are kept in {}: fix the output and run the same command with "
@@ -188,6 +204,7 @@ LoadedScene load_render(const RenderCallOptions& options, RenderObserver& observ
     if (!outputs.exr.empty()) outputs.sidecar = sidecar_path(outputs.exr);
   }
   check_render_outputs(job, outputs, options.preview, options.memory_check);
+  if (!chunk) check_sensor_stage(job, outputs.exr, outputs.png);
   if (options.resume && outputs.checkpoint.empty()) throw Error("--resume needs an output EXR (its checkpoint)");
   const bool faults = seams.faults.mis_weight_one || seams.faults.no_shadow_alpha;
   if (faults && !outputs.checkpoint.empty()) throw Error("transport faults are for renders kept in memory");
@@ -293,6 +310,7 @@ MergeResult merge_parts(const std::vector<std::filesystem::path>& parts, bool al
   std::vector<std::filesystem::path> inputs = parts;
   inputs.insert(inputs.end(), job.file.inputs.begin(), job.file.inputs.end());
   check_outputs(checked, inputs);
+  check_sensor_stage(job, outputs.exr, outputs.png);
   if (checkpoint_key(job.file.content_hash, job.settings) != merged.header.key)
     throw Error(fmt::format("the scene {} is not the one the parts were rendered from (it changed since)",
                             request.source.label()));
@@ -304,6 +322,7 @@ MergeResult merge_parts(const std::vector<std::filesystem::path>& parts, bool al
   out.render.image = output_image(renderer, merged.film, job.file, options, observer);
   out.render.film_samples = merged.film.total_samples();
   write_render_outputs(renderer, out.render.image, job.file, outputs.exr, outputs.png, options.preview);
+  out.render.sensor = sense(job.file, job.settings, out.render.image, outputs, observer);
   out.header = std::move(merged.header);
   out.missing = std::move(merged.missing);
   out.unused = std::move(merged.unused);

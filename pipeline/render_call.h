@@ -102,6 +102,7 @@ enum class RenderStatus {
 struct RenderResult {
   RenderStatus status = RenderStatus::finished;
   Image image;                   // the film's channels with the render's header (empty for a chunk)
+  Image sensor;                  // the scene's [sensor] applied to `image` (pipeline/sensor_stage.h), else empty
   RenderStats stats;             // this call's rendering (seconds: rendering only)
   OutputPaths outputs;           // the files (to be) written; the checkpoint when one is kept
   uint64_t resumed_samples = 0;  // samples the resumed checkpoint held

@@ -42,7 +42,7 @@ struct RenderSettings {
   // Embree's kernels (EmbreeIsa): at most AVX2 unless asked, so the bits are the same on every
   // processor with AVX2.
   EmbreeIsa isa = EmbreeIsa::kAvx2;
-  bool progress = true;      // progress bar on stderr (only when stderr is a terminal)
+  bool progress = true;      // progress on stderr: a bar on a terminal, else periodic lines with an ETA
   ProgressSink on_progress;  // told the samples done and left (Progress), with or without a bar
   // Adaptive sampling (docs/sampling.md, "Adaptive sampling"): 0 = off; else the relative standard
   // error each pixel's mean should reach in every channel of noise_channels (every band channel if

@@ -9,6 +9,7 @@
 #include "render/renderer.h"
 #include "render/scene.h"
 #include "render/sensors/plot_sensor.h"
+#include "sensor/sensor_params.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -59,6 +60,8 @@ struct SceneFile {
   RenderSettings render;
   std::vector<std::string> bands{"rgb", "nir"};
   OutputSection output;
+  // [sensor]: a real camera applied after the render (sensor/, docs/sensors.md); none when absent.
+  std::optional<SensorParams> sensor;
   // [plot]: the plot sensor's view directions, sample counts and ground materials (the rectangle
   // and `cyclic` are in scene.plot).
   PlotSettings plot;

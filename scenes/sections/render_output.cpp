@@ -88,4 +88,6 @@ void parse_output(const Params& root, SceneBuilder& b) {
   o.view = t->string("view", o.view);
 }
 
+void parse_sensor(const Params& root, SceneBuilder& b) { b.file().sensor = read_sensor_params(*root.table("sensor")); }
+
 }  // namespace sylva

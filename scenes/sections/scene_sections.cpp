@@ -40,6 +40,7 @@ std::span<const SceneSection> scene_sections() {
       {"placements", &parse_placements},
       {"targets", &parse_targets},
       {"output", &parse_output},
+      {"sensor", &parse_sensor},
   };
   return kSections;
 }

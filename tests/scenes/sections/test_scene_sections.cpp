@@ -28,7 +28,7 @@ TEST(SceneSections, EachSectionOnceAndItsInputsBeforeIt) {
     EXPECT_TRUE(names.insert(s.name).second) << s.name;
     EXPECT_NE(s.read, nullptr) << s.name;
   }
-  EXPECT_EQ(names.size(), 19u);
+  EXPECT_EQ(names.size(), 20u);  // with [sensor]
   // Materials before every user of one; [render] and [camera] before [lod] (the image and view
   // give each tree's range); the [plot] before the tiles of meshes and trees; the terrain before
   // what stands on it; meshes and terrain before the targets that snap onto them.
