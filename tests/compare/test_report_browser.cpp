@@ -1,7 +1,8 @@
 // The HTML report of a comparison in a real browser: headless Chromium (Debian `chromium`) loads
 // the report of a local failure, and a script run after the page's load event finds every image
 // decoded (complete, with its natural size) and the failing region listed. Skipped, saying why,
-// where Chromium is not installed (cmake/install-deps.sh installs it for the test command).
+// where Chromium is not installed; the README's test command installs it (cmake/install-deps.sh)
+// and sets SYLVA_REQUIRE_CHROMIUM=1, which turns that skip into a failure.
 
 #include "compare/compare_report.h"
 #include "compare/image_compare.h"
@@ -10,11 +11,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <string>
 
 namespace sylva {
 namespace report_browser_test {
@@ -87,9 +90,15 @@ class ReportBrowser : public test::TempDirTest {};
 
 TEST_F(ReportBrowser, ChromiumLoadsTheReportWithEveryImage) {
   const std::string chromium = find_chromium();
-  if (chromium.empty())
+  if (chromium.empty()) {
+    // The README's test command installs Chromium and sets SYLVA_REQUIRE_CHROMIUM, so there a
+    // missing browser is a failure, never a skip that reads as done.
+    const char* required = std::getenv("SYLVA_REQUIRE_CHROMIUM");
+    if (required != nullptr && std::string(required) == "1")
+      FAIL() << "Chromium is not on PATH, but SYLVA_REQUIRE_CHROMIUM=1 (cmake/build-and-test.sh) requires it";
     GTEST_SKIP() << "Chromium is not installed (Debian package chromium; cmake/install-deps.sh installs it): "
                     "the HTML report was not loaded in a browser";
+  }
   const fs::path dir = dir_;
   const Image ref = draw(4096, 1.0, 1), test = draw(64, 1.06, 2);
   const CompareResult r = compare_images(test, ref, {});
