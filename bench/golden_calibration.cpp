@@ -10,7 +10,8 @@
 //     detecting region. Faults: cab45-oak (Cab 40 → 45 on the default forest's oaks), cab40-oak
 //     (its control: the oaks' own leaf at Cab 40), cab45-all (every leaf), bark+5%, nir-band (leaf
 //     reflectance and transmittance +20 % within 840–850 nm), shadow-alpha (shadow rays ignore the
-//     leaf outlines: on a scene with one tree, that tree's shadow), sky+3% (the whole sky), none, and
+//     leaf outlines: on a scene with one tree, that tree's shadow), sky+3% (the whole sky),
+//     horizon+3% (the sky below 15° elevation only: TransportFaults::sky_horizon_gain), none, and
 //     set:KEY=VALUE[;KEY=VALUE] (overrides of the scene file, as `--set`).
 //
 // Renders run in this process through the render call (the scene loaded and its BVH built once per
@@ -77,6 +78,7 @@ std::vector<Fault> faults() {
   f.push_back({"nir-band", {}, leaf_band(840.0f, 850.0f, 0.2f), {}});
   f.push_back({"shadow-alpha", {}, {}, TransportFaults{.no_shadow_alpha = true}});
   f.push_back({"sky+3%", {}, [](Scene& s) { s.sky.spectrum *= 1.03f; }, {}});
+  f.push_back({"horizon+3%", {}, {}, TransportFaults{.sky_horizon_gain = 1.03f, .sky_horizon_elevation_deg = 15.0f}});
   f.push_back({"none", {}, {}, {}});
   return f;
 }

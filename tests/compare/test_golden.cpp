@@ -105,6 +105,20 @@ TEST(GoldenPower, SkyRadianceTimes1_02Fails) {
                   check_golden_case(find_case("ground_sky"), {}, [](Scene& s) { s.sky.spectrum *= 1.02f; }));
 }
 
+TEST(GoldenPower, SkyPlus3PercentNearTheHorizonFailsLocally) {
+  // The sky's radiance +3 % below 15° elevation only (a fault local in direction,
+  // TransportFaults::sky_horizon_gain): the sky's region or the tiles over the horizon fail.
+  const TransportFaults horizon{.sky_horizon_gain = 1.03f, .sky_horizon_elevation_deg = 15.0f};
+  for (const char* name : {"ground_sky", "tree_aspen"}) {
+    const GoldenCheck r = check_golden_case(find_case(name), {}, {}, horizon);
+    expect_rejected(name, "sky +3% below 15 deg", r);
+    bool local = false;
+    for (const RegionTest& t : r.compare.regions)
+      local = local || (t.failed() && (t.kind == RegionKind::Sky || t.kind == RegionKind::Tile));
+    EXPECT_TRUE(local) << format_compare_summary(r.compare);
+  }
+}
+
 TEST(GoldenPower, BrokenMisWeightFails) {
   for (const char* name : {"ground_sky", "instancing"})
     expect_rejected(name, "broken MIS weight",
