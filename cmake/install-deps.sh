@@ -11,6 +11,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin  # sylva-mpi (optional at build time; CMake skips it without MPI)
   slurm-wlm munge             # tests/slurm: a single-node cluster started in a temp dir (skipped if absent)
+  pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest python3-matplotlib  # `import sylva` (python/)
+  chromium                    # tests/compare/test_report_browser.cpp: the HTML report in a browser (skipped if absent)
 )
 for option in "$@"; do
   case $option in

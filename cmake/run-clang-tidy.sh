@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs clang-tidy (the repository's .clang-tidy) on the production sources, or on the files given:
-#   cmake/run-clang-tidy.sh                 # every .cpp of core geometry render scenes pipeline compare app denoise
+#   cmake/run-clang-tidy.sh                 # every .cpp of core geometry render scenes pipeline compare app denoise sensor python
 #   cmake/run-clang-tidy.sh render/film.cpp # just these
 # Uses per-file compile commands from a configure-only tree (build-tidy/, without unity batches).
 set -euo pipefail
@@ -11,7 +11,11 @@ cmake -S . -B build-tidy -G Ninja -DCMAKE_BUILD_TYPE=Release -DSYLVA_UNITY_BUILD
 if (($#)); then
   files=("$@")
 else
-  mapfile -t files < <(find core geometry render scenes pipeline compare app denoise -name '*.cpp' 2>/dev/null | sort)
+  mapfile -t files < <(find core geometry render scenes pipeline compare app denoise sensor python -name '*.cpp' 2>/dev/null | sort)
+fi
+# python/ is configured only where pybind11 is installed (cmake/install-deps.sh installs it).
+if [[ ! -d build-tidy/python ]]; then
+  mapfile -t files < <(printf '%s\n' "${files[@]}" | grep -v '^python/')
 fi
 printf '%s\0' "${files[@]}" | xargs -0 -P "$(nproc)" -n 4 clang-tidy -p build-tidy --quiet 2>/dev/null
 echo "run-clang-tidy: ${#files[@]} files clean"

@@ -133,24 +133,33 @@ void mark_failing_regions(const Image& ref, const CompareResult& result, const P
     const size_t p = (static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x)) * 3;
     for (size_t k = 0; k < 3; ++k) rgb[p + k] = blend ? static_cast<uint8_t>((rgb[p + k] + colour[k]) / 2) : colour[k];
   };
-  for (const RegionTest& t : result.regions) {
-    if (!t.failed() || t.kind == RegionKind::Image) continue;
-    if (std::none_of(item.channels.begin(), item.channels.end(), [&](const std::string& c) { return c == t.channel; }))
-      continue;
-    if (t.kind == RegionKind::Tile || t.kind == RegionKind::Grid) {
-      for (int y = t.y0; y < t.y1; ++y)
-        for (int x = t.x0; x < t.x1; ++x)
-          if (x == t.x0 || x == t.x1 - 1 || y == t.y0 || y == t.y1 - 1) set(x, y, {255, 220, 0}, false);
-      continue;
-    }
-    const int c = ref.find_channel(t.kind == RegionKind::Class    ? "id.class"
-                                   : t.kind == RegionKind::Object ? "id.object"
-                                                                  : "id.instance");
+  std::vector<const RegionTest*> failing;
+  for (const RegionTest& t : result.regions)
+    if (t.failed() && t.kind != RegionKind::Image &&
+        std::any_of(item.channels.begin(), item.channels.end(), [&](const std::string& c) { return c == t.channel; }))
+      failing.push_back(&t);
+  // Regions first (each pixel tinted once, however many channels fail there), then the outlines.
+  std::vector<uint8_t> tinted(static_cast<size_t>(ref.width) * static_cast<size_t>(ref.height), 0);
+  for (const RegionTest* t : failing) {
+    if (t->kind == RegionKind::Tile || t->kind == RegionKind::Grid) continue;
+    const int c = ref.find_channel(t->kind == RegionKind::Class    ? "id.class"
+                                   : t->kind == RegionKind::Object ? "id.object"
+                                                                   : "id.instance");
     if (c < 0) continue;
-    for (int y = t.y0; y < t.y1; ++y)
-      for (int x = t.x0; x < t.x1; ++x)
-        if (static_cast<int64_t>(ref.at(x, y, c)) == t.label) set(x, y, {255, 0, 255}, true);
+    for (int y = t->y0; y < t->y1; ++y)
+      for (int x = t->x0; x < t->x1; ++x) {
+        uint8_t& done = tinted[static_cast<size_t>(y) * static_cast<size_t>(ref.width) + static_cast<size_t>(x)];
+        if (done == 0 && static_cast<int64_t>(ref.at(x, y, c)) == t->label) {
+          set(x, y, {255, 0, 255}, true);
+          done = 1;
+        }
+      }
   }
+  for (const RegionTest* t : failing)
+    if (t->kind == RegionKind::Tile || t->kind == RegionKind::Grid)
+      for (int y = t->y0; y < t->y1; ++y)
+        for (int x = t->x0; x < t->x1; ++x)
+          if (x == t->x0 || x == t->x1 - 1 || y == t->y0 || y == t->y1 - 1) set(x, y, {255, 220, 0}, false);
 }
 
 // Writes the item's previews: test, reference and |diff|·k, and the rejecting pixels over the dimmed

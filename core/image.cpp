@@ -21,7 +21,8 @@ namespace sylva {
 namespace {
 
 // The OpenImageIO module's open function, loaded on first use: from beside the executable (a copied
-// installation), else from where the build put it.
+// installation), beside the shared object holding this code (the installed Python module), else
+// from where the build put it.
 OpenImageReaderFn oiio_module(const std::filesystem::path& file) {
   static const std::pair<OpenImageReaderFn, std::string> module = [] {
     constexpr const char* kName = "libsylva_oiio.so";
@@ -29,6 +30,11 @@ OpenImageReaderFn oiio_module(const std::filesystem::path& file) {
     std::error_code ec;
     const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (!ec) candidates.push_back(exe.parent_path() / kName);
+    Dl_info self{};
+    if (dladdr(reinterpret_cast<const void*>(&oiio_module), &self) != 0 && self.dli_fname != nullptr) {
+      const std::filesystem::path beside = std::filesystem::path(self.dli_fname).parent_path() / kName;
+      if (candidates.empty() || beside != candidates.front()) candidates.push_back(beside);
+    }
     candidates.emplace_back(SYLVA_OIIO_MODULE);
     std::string tried;
     for (const std::filesystem::path& candidate : candidates) {

@@ -204,7 +204,9 @@ LoadedScene load_render(const RenderCallOptions& options, RenderObserver& observ
     if (!outputs.exr.empty()) outputs.sidecar = sidecar_path(outputs.exr);
   }
   check_render_outputs(job, outputs, options.preview, options.memory_check);
-  if (!chunk) check_sensor_stage(job, outputs.exr, outputs.png);
+  // A chunk writes no sensor files (the merge applies the sensor) but is refused what the sensor
+  // cannot take, before it renders.
+  check_sensor_stage(job, chunk ? std::filesystem::path() : outputs.exr, outputs.png);
   if (options.resume && outputs.checkpoint.empty()) throw Error("--resume needs an output EXR (its checkpoint)");
   const bool faults = seams.faults.mis_weight_one || seams.faults.no_shadow_alpha;
   if (faults && !outputs.checkpoint.empty()) throw Error("transport faults are for renders kept in memory");

@@ -92,6 +92,9 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
                             settings_.spp, settings_.pilot_spp));
   environment_ = Environment(scene_.sun, scene_.sky);
   channels_ = BandChannels(settings_.bands, environment_, settings_.quantity);
+  // After the channels' irradiance: the fault changes the radiance, not the recorded normalisation.
+  if (faults.sky_horizon_gain != 1.0f)
+    environment_.inject_horizon_fault(faults.sky_horizon_gain, faults.sky_horizon_elevation_deg);
   if (adaptive()) {
     noise_channels_ = noise_channel_indices(settings_.noise_channels, channels_);
     for (const int c : noise_channels_) {

@@ -5,6 +5,7 @@
 #include "core/table.h"
 
 #include <array>
+#include <cmath>
 
 namespace sylva {
 
@@ -222,15 +223,21 @@ Vec3 Environment::sky_basis_weights(const Vec3& dir) const {
 SampledSpectrum Environment::eval_sky(const Vec3& dir, const SampledWavelengths& wl) const {
   if (!sky_.enabled) return SampledSpectrum(0.0f);
   if (has_ground_ && dir.z < 0) return ground_radiance_.eval(wl);
+  SampledSpectrum l(0.0f);
   if (spectral_sky_) {
     const Vec3 c = sky_basis_weights(dir);
-    if (c == Vec3(0.0f)) return SampledSpectrum(0.0f);
-    const SampledSpectrum l =
-        c.x * sky_basis_[0].eval(wl) + c.y * sky_basis_[1].eval(wl) + c.z * sky_basis_[2].eval(wl);
-    return clamp_zero(l);
+    if (c == Vec3(0.0f)) return l;
+    l = clamp_zero(c.x * sky_basis_[0].eval(wl) + c.y * sky_basis_[1].eval(wl) + c.z * sky_basis_[2].eval(wl));
+  } else if (const float g = sky_shape(dir); g > 0) {
+    l = g * sky_radiance_.eval(wl);
   }
-  const float g = sky_shape(dir);
-  return g > 0 ? g * sky_radiance_.eval(wl) : SampledSpectrum(0.0f);
+  if (horizon_gain_ != 1.0f && dir.z >= 0 && dir.z < horizon_z_) l *= horizon_gain_;
+  return l;
+}
+
+void Environment::inject_horizon_fault(float gain, float elevation_deg) {
+  horizon_gain_ = gain;
+  horizon_z_ = std::sin(elevation_deg * kPi / 180.0f);
 }
 
 SampledSpectrum Environment::eval(const Vec3& dir, const SampledWavelengths& wl) const {

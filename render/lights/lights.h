@@ -116,6 +116,10 @@ class Environment {
   // scale times ∫_{z>0} g(ω) cos θ dω on a 256 × 128 (φ, θ) grid (the horizontal diffuse spectrum
   // itself for normalised models). The ground below the horizon does not reach an upward plane.
   DenseSpectrum horizontal_irradiance() const;
+  // Test seam (render/testing/faults.h, the golden suite's power tests): from now on eval_sky
+  // returns the sky's radiance × `gain` for directions between the horizon and `elevation_deg`.
+  // The sampling density and horizontal_irradiance() are left as they were.
+  void inject_horizon_fault(float gain, float elevation_deg);
 
  private:
   float sky_shape(const Vec3& dir) const;
@@ -146,6 +150,7 @@ class Environment {
   Distribution2D sky_distribution_;
   float sky_z_min_ = -1.0f;
   float p_sun_ = 0, p_sky_ = 0;
+  float horizon_gain_ = 1.0f, horizon_z_ = 0.0f;  // inject_horizon_fault
 };
 
 }  // namespace sylva

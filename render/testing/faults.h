@@ -10,6 +10,10 @@ namespace sylva {
 struct TransportFaults {
   bool no_shadow_alpha = false;  // shadow rays ignore the leaf outlines (EmbreeScene occlusion filter)
   bool mis_weight_one = false;   // NEE and BSDF sampling both weighted 1, so direct light double counts
+  // The sky's radiance × sky_horizon_gain between the horizon and sky_horizon_elevation_deg
+  // (Environment::inject_horizon_fault): a fault local in direction, e.g. 1.03 for +3 %.
+  float sky_horizon_gain = 1.0f;
+  float sky_horizon_elevation_deg = 15.0f;
 };
 
 }  // namespace sylva

@@ -90,9 +90,33 @@ TEST(GoldenPower, SunTwoDegreesLowerThroughSetFails) {
   EXPECT_TRUE(same.determinism_matches);
 }
 
+TEST(GoldenPower, ChlorophyllPlus5OnTheTreeFailsItsObject) {
+  // tree_aspen's leaves from Cab 45 to 50 (`golden check --set`): the tree (object 1) fails its local
+  // test; the case's one tree covers a quarter of the image (docs/compare.md, "Calibration").
+  const GoldenCheck r = check_golden_case(find_case("tree_aspen"), {}, {}, {}, {"materials.leaf.prospect.Cab=50"});
+  expect_rejected("tree_aspen", "--set leaf Cab 45 -> 50", r);
+  bool tree = false;
+  for (const RegionTest& t : r.compare.regions) tree = tree || (t.kind == RegionKind::Object && t.failed());
+  EXPECT_TRUE(tree) << format_compare_summary(r.compare);
+}
+
 TEST(GoldenPower, SkyRadianceTimes1_02Fails) {
   expect_rejected("ground_sky", "sky radiance x1.02",
                   check_golden_case(find_case("ground_sky"), {}, [](Scene& s) { s.sky.spectrum *= 1.02f; }));
+}
+
+TEST(GoldenPower, SkyPlus3PercentNearTheHorizonFailsLocally) {
+  // The sky's radiance +3 % below 15° elevation only (a fault local in direction,
+  // TransportFaults::sky_horizon_gain): the sky's region or the tiles over the horizon fail.
+  const TransportFaults horizon{.sky_horizon_gain = 1.03f, .sky_horizon_elevation_deg = 15.0f};
+  for (const char* name : {"ground_sky", "tree_aspen"}) {
+    const GoldenCheck r = check_golden_case(find_case(name), {}, {}, horizon);
+    expect_rejected(name, "sky +3% below 15 deg", r);
+    bool local = false;
+    for (const RegionTest& t : r.compare.regions)
+      local = local || (t.failed() && (t.kind == RegionKind::Sky || t.kind == RegionKind::Tile));
+    EXPECT_TRUE(local) << format_compare_summary(r.compare);
+  }
 }
 
 TEST(GoldenPower, BrokenMisWeightFails) {

@@ -3,10 +3,10 @@
 # outside the source and build trees: `sylva render` with no arguments renders the built-in scene
 # to ./sylva.exr and ./sylva.png; a scene there naming a mesh only the installed data holds renders
 # (so the installed data is the one in use), and fails once that data is moved away; the docs,
-# the OCIO config and the OpenImageIO module are installed.
+# the OCIO config, the OpenImageIO module and the Python module are installed.
 # Usage: install_prefix.sh CMAKE BUILD_DIR
 set -euo pipefail
-cmake=$1 build=$2
+cmake=$1 build=$(cd "$2" && pwd)
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 prefix="$dir/prefix"
@@ -62,6 +62,26 @@ TOML
 run render scene.toml --threads 2 --quiet -o installed.exr --png installed.png
 if [[ -s installed.exr && -s installed.png ]]; then echo "ok: a mesh of the installed data was found"; else
   echo "FAIL: the installed data is not where the installed sylva looks"; fail=1
+fi
+# The installed Python module (when the build made one), from here, by PYTHONPATH: it is the
+# installed copy, it finds the installed data beside it (the mesh only that data holds) and renders.
+if [[ -f "$build/python/sylva/__init__.py" ]]; then
+  module=$(find "$prefix/lib" -path '*/dist-packages/sylva/__init__.py' -printf '%h\n' | head -1)
+  if [[ -z $module ]]; then
+    echo "FAIL: the Python module was built but not installed"; fail=1
+  elif [[ ! -f $module/libsylva_oiio.so ]]; then
+    echo "FAIL: the OpenImageIO module is not installed beside the Python module"; fail=1
+  elif env -u SYLVA_DATA_DIR -u SYLVA_DATA PYTHONPATH="$(dirname "$module")" /usr/bin/python3 -c '
+import os, sys, sylva
+assert sylva.__file__.startswith(sys.argv[1]), sylva.__file__
+assert os.environ["SYLVA_DATA_DIR"] == sys.argv[2], os.environ["SYLVA_DATA_DIR"]
+image = sylva.render("scene.toml", threads=2)
+assert image["R"].shape == (16, 24) and image["id.object"].max() > 0, sorted(image)' \
+      "$module" "$(cd "$prefix/share/sylva/data" && pwd -P)"; then
+    echo "ok: the installed Python module ($module) renders the installed mesh"
+  else
+    echo "FAIL: the installed Python module"; fail=1
+  fi
 fi
 # The installed data is what it reads: without it, the same command fails.
 mv "$prefix/share/sylva/data" "$prefix/share/sylva/moved"

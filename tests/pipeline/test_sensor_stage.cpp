@@ -17,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace sylva {
 namespace {
@@ -119,6 +120,55 @@ TEST_F(SensorStage, BadInputIsFileLineWhatWasExpected) {
   RenderCallOptions reflectance = sensor_options("\n[sensor]\n", dir_ / "r.exr");
   reflectance.request.quantity = "reflectance";
   EXPECT_THROW(render_scene(reflectance, quiet), Error);
+}
+
+// A split render's chunks carry no sensor (a chunk is part of the samples or tiles); the merge
+// applies it with the render's seed, so the sensed image equals a single render's bit for bit.
+// A chunk of a scene the sensor cannot take fails before rendering, not at the merge.
+TEST_F(SensorStage, ChunksMergeToTheSingleRendersSensedImage) {
+  const std::filesystem::path scene = dir_ / "box.toml";
+  std::ofstream(scene) << test::kBoxSceneToml;
+  RenderCallOptions o;
+  o.request.source = SceneSource::from_file(scene.string());
+  o.request.threads = 2;
+  o.request.overrides = {"sensor.preset=phone_8bit", "sensor.oversample=2"};
+  RenderObserver quiet;
+  std::vector<std::filesystem::path> parts;
+  for (const char* chunk : {"0/2", "1/2"}) {
+    RenderCallOptions c = o;
+    c.chunk = chunk;
+    c.exr = dir_ / (std::string("part") + chunk[0] + ".partial");
+    const RenderResult part = render_scene(c, quiet);
+    ASSERT_EQ(part.status, RenderStatus::finished);
+    EXPECT_TRUE(part.sensor.pixels.empty());
+    parts.push_back(c.exr);
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "part0.sensor.exr"));
+  RenderCallOptions m;
+  m.exr = dir_ / "merged.exr";
+  m.png = dir_ / "merged.png";
+  const MergeResult merged = merge_parts(parts, false, m, quiet);
+  RenderCallOptions single = o;
+  single.exr = dir_ / "single.exr";
+  const RenderResult whole = render_scene(single, quiet);
+  ASSERT_FALSE(whole.sensor.pixels.empty());
+  EXPECT_EQ(merged.render.image.pixels, whole.image.pixels);
+  EXPECT_EQ(merged.render.sensor.pixels, whole.sensor.pixels) << "the merge sensed another image";
+  const Image merged_file = read_exr(dir_ / "merged.sensor.exr");
+  const Image single_file = read_exr(dir_ / "single.sensor.exr");
+  EXPECT_EQ(merged_file.pixels, single_file.pixels);
+  EXPECT_EQ(merged_file.channels, single_file.channels);
+  for (const char* key : {"sylva:sensor:preset", "sylva:sensor:seed", "sylva:sensor:noise_seed"})
+    EXPECT_EQ(merged_file.attribute(key), single_file.attribute(key)) << key;
+  EXPECT_EQ(sensor_file_text(dir_ / "merged.sensor.json"), sensor_file_text(dir_ / "single.sensor.json"));
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "merged.sensor.png"));
+
+  RenderCallOptions reflectance = o;
+  reflectance.chunk = "0/2";
+  reflectance.exr = dir_ / "r0.partial";
+  reflectance.request.quantity = "reflectance";
+  EXPECT_THROW(render_scene(reflectance, quiet), Error);
+  EXPECT_FALSE(std::filesystem::exists(reflectance.exr));
 }
 
 }  // namespace
