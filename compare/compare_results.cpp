@@ -33,20 +33,6 @@ std::string json_number(double v) {
 
 const char* json_bool(bool b) { return b ? "true" : "false"; }
 
-const char* channel_test_name(ChannelTest t) {
-  switch (t) {
-    case ChannelTest::ZTest:
-      return "z-test";
-    case ChannelTest::Threshold:
-      return "threshold";
-    case ChannelTest::Exact:
-      return "exact";
-    case ChannelTest::AbsTolerance:
-      return "abs-tol";
-  }
-  return "?";
-}
-
 // A channel's own verdict: its share of rejecting pixel-channels against the limit, and its local tests.
 bool channel_passed(const CompareResult& r, const ChannelReport& c) {
   return c.reject_fraction() <= r.limit && c.regions_failed == 0;

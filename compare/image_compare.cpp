@@ -45,7 +45,9 @@ VarianceSource find_variance(const Image& image, const Image* companion, const s
   return {};
 }
 
-const char* test_name(ChannelTest test) {
+}  // namespace
+
+const char* channel_test_name(ChannelTest test) {
   switch (test) {
     case ChannelTest::ZTest:
       return "z-test";
@@ -58,6 +60,8 @@ const char* test_name(ChannelTest test) {
   }
   return "?";
 }
+
+namespace {
 
 struct ChannelPlan {
   std::string name;
@@ -527,7 +531,7 @@ std::string format_compare_summary(const CompareResult& r) {
                    "mean rel diff", "mean |rel diff|", "bias z", "worst tile z");
   for (const ChannelReport& c : r.channels)
     s += fmt::format("  {:<14} {:<9} {:>17} {:>8.4g}% {:>+13.4g}% {:>15.4g}% {:>10} {:>22}\n", c.name,
-                     test_name(c.test), fmt::format("{}/{}", c.rejected, c.tested), 100.0 * c.reject_fraction(),
+                     channel_test_name(c.test), fmt::format("{}/{}", c.rejected, c.tested), 100.0 * c.reject_fraction(),
                      100.0 * c.mean_rel_diff, 100.0 * c.mean_abs_rel_diff,
                      c.test == ChannelTest::ZTest && std::isfinite(r.bias_z_critical)
                          ? fmt::format("{:+.2f}{}", c.bias_z, c.bias_failed ? "!" : "")

@@ -50,6 +50,9 @@ namespace sylva {
 
 enum class ChannelTest : uint8_t { ZTest, Threshold, Exact, AbsTolerance };
 
+// The test's name as reports and JSON print it ("z-test", "threshold", "exact", "abs-tol").
+const char* channel_test_name(ChannelTest test);
+
 struct CompareOptions {
   double alpha = 0.01;                      // family-wise false-rejection rate of the per-pixel z-test
   double max_reject_fraction = 0.0025;      // pass when rejecting pixel-channels / tested ≤ this

@@ -82,6 +82,18 @@ class PathSampler {
     if (kind_ == SamplerKind::kIndependent) return uniform2(*rng_);
     return sobol_2d(index_, dimension_seed(dim));
   }
+  // Draw j of n of one use at one event (several light samples at a vertex): Sobol' point
+  // index·n + j of the dimension's sequence, so a sample's n points and those of all the pixel's
+  // samples together stay stratified (n a power of two keeps them elementary intervals). j = 0 of
+  // n = 1 is get1d(dim) / get2d(dim); the independent sampler draws as those do.
+  float get1d(SampleDim dim, uint32_t j, uint32_t n) {
+    if (kind_ == SamplerKind::kIndependent) return rng_->uniform();
+    return sobol_1d(index_ * n + j, dimension_seed(dim));
+  }
+  Vec2 get2d(SampleDim dim, uint32_t j, uint32_t n) {
+    if (kind_ == SamplerKind::kIndependent) return uniform2(*rng_);
+    return sobol_2d(index_ * n + j, dimension_seed(dim));
+  }
 
  private:
   uint32_t dimension_seed(SampleDim dim) const {

@@ -120,6 +120,13 @@ LightSample Integrator::sample_light(const SampledWavelengths& wl, PathSampler& 
   return environment_.sample(u_light, u_select, wl);
 }
 
+LightSample Integrator::sample_light(const SampledWavelengths& wl, PathSampler& sampler, uint32_t j, uint32_t n) const {
+  const Vec2 u_light = sampler.get2d(SampleDim::kLight, j, n);
+  const float u_select = sampler.get1d(SampleDim::kLightSelect, j, n);
+  if (environment_.empty()) return LightSample{Vec3(0.0f), SampledSpectrum(0.0f), 0.0f};
+  return environment_.sample(u_light, u_select, wl);
+}
+
 void Integrator::record_first_hit(const HitContext& si, const Bsdf& bsdf, const Ray& ray, float t,
                                   FirstHit* first) const {
   first->hit = true;
@@ -258,7 +265,7 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
   // One bounce of the path: the body of radiance()'s loop, with the next-event shadow ray left in
   // path.shadow for resolve_shadow(). The nearest of three events ends the ray: a collision in the
   // haze, a collision with a turbid crown's leaves (free-flight sampling), or the surface hit.
-  path.shadow.kind = ShadowQuery::Kind::kNone;
+  path.shadows = 0;
   const Ray& ray = path.ray;
   const float t_surface = found ? hit.t : std::numeric_limits<float>::infinity();
   PathSampler& sampler = *path.sampler;
@@ -283,7 +290,8 @@ void Integrator::advance(PathState& path, bool found, const RayHit& hit) const {
     if (path.depth == 0 || faults_.mis_weight_one) {
       path.L += path.beta * le;
     } else {
-      path.L += path.beta * le * power_heuristic(path.prev_pdf, environment_.pdf(ray.direction));
+      path.L +=
+          path.beta * le * power_heuristic(path.prev_pdf, path.prev_light_samples * environment_.pdf(ray.direction));
     }
     path.alive = false;
     return;
@@ -329,12 +337,13 @@ void Integrator::scatter_in_haze(PathState& path, bool found, const RayHit& hit,
   if (const LightSample ls = sample_light(wl, sampler); ls.pdf > 0 && !is_black(ls.radiance)) {
     const float phase = henyey_greenstein(glm::dot(ray.direction, ls.wi), g);
     const float w = power_heuristic(ls.pdf, phase);
-    path.shadow =
+    path.shadow[path.shadows++] =
         ShadowQuery{ShadowQuery::Kind::kSky, kNoInstance, p, ls.wi, path.beta, SampledSpectrum(1.0f), ls.radiance,
                     phase * w / ls.pdf};
   }
   const Vec3 wi = sample_henyey_greenstein(ray.direction, g, sampler.get2d(SampleDim::kScatter));
   path.prev_pdf = henyey_greenstein(glm::dot(ray.direction, wi), g);
+  path.prev_light_samples = 1.0f;
   path.emitters_sampled = false;
   ray = Ray{p, wi};
   path.from = kNoInstance;
@@ -360,15 +369,16 @@ void Integrator::scatter_in_crown(PathState& path, float s) const {
     const SampledSpectrum f = eval_leaf_phase(phase, ray.direction, ls.wi);
     if (!is_black(f)) {
       const float w = power_heuristic(ls.pdf, leaf_phase_pdf(phase, ray.direction, ls.wi));
-      path.shadow = ShadowQuery{haze_.enabled() ? ShadowQuery::Kind::kSkyLeaf : ShadowQuery::Kind::kCrownLeaf,
-                                kNoInstance,
-                                p,
-                                ls.wi,
-                                path.beta,
-                                f,
-                                ls.radiance,
-                                w,
-                                ls.pdf};
+      path.shadow[path.shadows++] =
+          ShadowQuery{haze_.enabled() ? ShadowQuery::Kind::kSkyLeaf : ShadowQuery::Kind::kCrownLeaf,
+                      kNoInstance,
+                      p,
+                      ls.wi,
+                      path.beta,
+                      f,
+                      ls.radiance,
+                      w,
+                      ls.pdf};
     }
   }
   const Vec2 u_normal = sampler.get2d(SampleDim::kScatterNormal);
@@ -381,6 +391,7 @@ void Integrator::scatter_in_crown(PathState& path, float s) const {
   }
   path.beta *= ps.weight;
   path.prev_pdf = ps.pdf;
+  path.prev_light_samples = 1.0f;
   path.emitters_sampled = false;
   ray = Ray{p, ps.direction};
   path.from = kNoInstance;
@@ -404,39 +415,17 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
   PathSampler& sampler = *path.sampler;
   const SurfaceVertex v = surface_vertex(ray, hit, wl);
   const HitContext& si = v.ctx;
-  const Vec3& ng = v.ng;
-  const Bsdf& bsdf = v.bsdf;
   // Emission, weighted against the previous vertex's light sample on the emitters (integrator.h).
   if (lobes_.emits(si.material)) path.L += path.beta * lobes_.emitted(si) * emission_weight(path, hit, si);
-  if (path.first && path.depth == 0) record_first_hit(si, bsdf, ray, hit.t, path.first);
+  if (path.first && path.depth == 0) record_first_hit(si, v.bsdf, ray, hit.t, path.first);
   if (path.depth + 1 > settings_.max_depth) {
     path.alive = false;
     return;
   }
-  const Vec3& wo_local = v.wo_local;
 
-  // Next-event estimation towards the sun + sky mixture.
-  if (const LightSample ls = sample_light(wl, sampler); ls.pdf > 0 && !is_black(ls.radiance)) {
-    const Vec3 wi_local = v.frame.to_local(ls.wi);
-    const float cos_g = glm::dot(ls.wi, ng);
-    const bool transmits = cos_g < 0;
-    // The geometric and shading sides must agree, or light would leak through the surface.
-    if ((wi_local.z > 0) == !transmits && cos_g != 0) {
-      const SampledSpectrum f = bsdf.eval(wo_local, wi_local);
-      if (!is_black(f)) {
-        const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(ls.pdf, bsdf.pdf(wo_local, wi_local));
-        path.shadow = ShadowQuery{ShadowQuery::Kind::kSurface,
-                                  si.instance,
-                                  offset_ray_origin(si.p, transmits ? -ng : ng),
-                                  ls.wi,
-                                  path.beta * f * std::abs(wi_local.z),
-                                  SampledSpectrum(1.0f),
-                                  ls.radiance,
-                                  w,
-                                  ls.pdf};
-      }
-    }
-  }
+  // Next-event estimation towards the sun + sky mixture: light_samples of it at the first vertex.
+  const uint32_t n_light = path.depth == 0 ? static_cast<uint32_t>(settings_.light_samples) : 1u;
+  for (uint32_t j = 0; j < n_light; ++j) sample_sky_at_surface(path, v, j, n_light);
 
   // Next-event estimation towards the emitters, in scenes that have some.
   if (!emitters_.empty()) sample_emitter(path, v);
@@ -449,9 +438,35 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
     return;
   }
   path.from = si.instance;
+  path.prev_light_samples = static_cast<float>(n_light);
   path.emitters_sampled = !emitters_.empty();
   path.prev_p = si.p;
   roulette_then_next_bounce(path);
+}
+
+void Integrator::sample_sky_at_surface(PathState& path, const SurfaceVertex& v, uint32_t j, uint32_t n) const {
+  // With n samples each counts 1/n of the estimate, weighted against the BSDF sample by the power
+  // heuristic on n·p_light (Veach 1997 §9.2.4): x = w, y = n·p_light.
+  const LightSample ls = n == 1 ? sample_light(*v.ctx.wl, *path.sampler) : sample_light(*v.ctx.wl, *path.sampler, j, n);
+  if (!(ls.pdf > 0) || is_black(ls.radiance)) return;
+  const Vec3 wi_local = v.frame.to_local(ls.wi);
+  const float cos_g = glm::dot(ls.wi, v.ng);
+  const bool transmits = cos_g < 0;
+  // The geometric and shading sides must agree, or light would leak through the surface.
+  if ((wi_local.z > 0) != !transmits || cos_g == 0) return;
+  const SampledSpectrum f = v.bsdf.eval(v.wo_local, wi_local);
+  if (is_black(f)) return;
+  const float pdf = static_cast<float>(n) * ls.pdf;
+  const float w = faults_.mis_weight_one ? 1.0f : power_heuristic(pdf, v.bsdf.pdf(v.wo_local, wi_local));
+  path.shadow[path.shadows++] = ShadowQuery{ShadowQuery::Kind::kSurface,
+                                            v.ctx.instance,
+                                            offset_ray_origin(v.ctx.p, transmits ? -v.ng : v.ng),
+                                            ls.wi,
+                                            path.beta * f * std::abs(wi_local.z),
+                                            SampledSpectrum(1.0f),
+                                            ls.radiance,
+                                            w,
+                                            pdf};
 }
 
 void Integrator::sample_emitter(PathState& path, const SurfaceVertex& v) const {
@@ -524,14 +539,16 @@ void Integrator::resolve_emitter_shadow(PathState& path, uint64_t& rays) const {
 
 void Integrator::resolve_shadow(PathState& path, uint64_t& rays) const {
   if (path.emitter_shadow.kind != ShadowQuery::Kind::kNone) resolve_emitter_shadow(path, rays);
+  const int n = path.shadows;
+  path.shadows = 0;  // resolved; the queries are read below
+  for (int i = 0; i < n; ++i) resolve_sky_shadow(path, path.shadow[i], rays);
+}
+
+void Integrator::resolve_sky_shadow(PathState& path, const ShadowQuery& q, uint64_t& rays) const {
   // The expressions radiance() had in line, term by term in the same order (same bits).
-  const ShadowQuery& q = path.shadow;
-  const ShadowQuery::Kind kind = q.kind;
-  if (kind == ShadowQuery::Kind::kNone) return;
-  path.shadow.kind = ShadowQuery::Kind::kNone;  // resolved; the rest of the query is read below
   ++rays;
   if (embree_.occluded(q.origin, q.direction, std::numeric_limits<float>::infinity(), q.from)) return;
-  switch (kind) {
+  switch (q.kind) {
     case ShadowQuery::Kind::kNone:
     case ShadowQuery::Kind::kEmitter:  // resolve_emitter_shadow
       break;

@@ -44,7 +44,14 @@ struct IntegratorSettings {
   // sets it.
   enum class EmitterSampling : uint8_t { kMis, kBsdf, kLight };
   EmitterSampling emitter_sampling = EmitterSampling::kMis;
+  // Sun and sky samples (shadow rays) at a camera path's first surface vertex, 1 to
+  // kMaxLightSamples; later vertices take one. They are combined with the vertex's BSDF sample by
+  // the power heuristic with sample counts (Veach 1997 §9.2.4). Under a canopy most of a leaf's
+  // noise is whether its one sky sample sees the sky through the leaves (bench/README.md, "Where
+  // the canopy's noise comes from"); more samples there cost shadow rays, not paths.
+  int light_samples = 1;
 };
+inline constexpr int kMaxLightSamples = 8;
 
 // A path's vertex on a surface, as every walk sees it (camera paths, the plot sensor's flux walk):
 // the hit's context with its face and wavelengths set, the directions and normal turned to the
@@ -132,7 +139,8 @@ struct PathState {
     alive = true;
     emitters_sampled = false;
     prev_p = Vec3(0.0f);
-    shadow.kind = ShadowQuery::Kind::kNone;
+    prev_light_samples = 1.0f;
+    shadows = 0;
     emitter_shadow.kind = ShadowQuery::Kind::kNone;
   }
 
@@ -156,13 +164,17 @@ struct PathState {
   // weighted by MIS), and that vertex's position (for the light sample's density there).
   bool emitters_sampled = false;
   Vec3 prev_p{0.0f};
-  ShadowQuery shadow;          // this bounce's next-event shadow ray, if any
+  float prev_light_samples = 1.0f;  // light samples the vertex `ray` leaves took (MIS's count)
+  int shadows = 0;                  // this bounce's next-event shadow rays: shadow[0, shadows)
+  ShadowQuery shadow[kMaxLightSamples];
   ShadowQuery emitter_shadow;  // this bounce's shadow ray to an emitter (render/lights/emitters.h), if any
 };
-// start() sets every field but the shadow query's payload (read only once its kind is set): a field
-// added to PathState must be added there too.
-// (11 spectra: 16 bytes per block of each beyond the first; the wavelengths' hero and its padding 8.)
-static_assert(sizeof(PathState) == 368 + 11 * 16 * (kLambdaBlocks - 1), "PathState::start() must set every field");
+// start() sets every field but the shadow queries' payload (read only once counted or its kind is
+// set): a field added to PathState must be added there too.
+// (5 spectra and 3 per shadow query: 16 bytes per block of each beyond the first.)
+static_assert(sizeof(PathState) ==
+                  184 + 16 * 5 * (kLambdaBlocks - 1) + (kMaxLightSamples + 1) * (96 + 16 * 3 * (kLambdaBlocks - 1)),
+              "PathState::start() must set every field");
 
 class Integrator {
  public:
@@ -212,6 +224,9 @@ class Integrator {
   // non-black radiance.
   LightSample sample_light(const SampledWavelengths& wl, PathSampler& sampler) const;
   LightSample sample_light(const SampledWavelengths& wl, Pcg32& rng) const;
+  // The j-th of n light samples at one vertex: point j of the vertex's n in its stratified sequence
+  // (PathSampler::get2d(dim, j, n)).
+  LightSample sample_light(const SampledWavelengths& wl, PathSampler& sampler, uint32_t j, uint32_t n) const;
 
   // The crowns' transmittance times the haze's (per wavelength) along an unoccluded ray to the sky.
   SampledSpectrum sky_transmittance(const Vec3& o, const Vec3& d, const SampledWavelengths& wl, uint64_t& rays) const;
@@ -227,10 +242,11 @@ class Integrator {
   MaterialLobes lobes_;     // the scene's materials as evaluated at hits (BSDFs, emission)
   EmitterLights emitters_;  // the emitters sampled as lights; empty: no random numbers for them
 
-  // trace_paths' stages: advance() shades path.ray's hit, leaving the bounce's shadow ray in
-  // path.shadow and the next ray in path.ray; resolve_shadow() traces the shadow ray and adds its light.
+  // trace_paths' stages: advance() shades path.ray's hit, leaving the bounce's shadow rays in
+  // path.shadow and the next ray in path.ray; resolve_shadow() traces the shadow rays and adds their light.
   void advance(PathState& path, bool found, const RayHit& hit) const;
   void resolve_shadow(PathState& path, uint64_t& rays) const;
+  void resolve_sky_shadow(PathState& path, const ShadowQuery& q, uint64_t& rays) const;
   // advance()'s events: a collision in the haze at distance s, a collision with the leaves of the
   // turbid crown the path is in, the crossing of a crown's boundary, a surface. Each leaves the
   // shadow ray and the next ray; the scattering ones end with roulette_then_next_bounce (Russian
@@ -239,6 +255,8 @@ class Integrator {
   void scatter_in_crown(PathState& path, float s) const;
   void cross_crown_boundary(PathState& path, const RayHit& hit, const HalfSpaceSolid& crown) const;
   void scatter_at_surface(PathState& path, const RayHit& hit) const;
+  // A surface vertex's light sample j of n on the sun and sky (a shadow query in path.shadow).
+  void sample_sky_at_surface(PathState& path, const SurfaceVertex& v, uint32_t j, uint32_t n) const;
   void roulette_then_next_bounce(PathState& path) const;
   // A surface vertex's light sample on the emitters (path.emitter_shadow), and the MIS weight of
   // emission that a ray leaving the previous vertex meets at `hit` (si its context).

@@ -80,6 +80,9 @@ Renderer::Renderer(const Scene& scene, std::unique_ptr<EmbreeScene> owned, const
   if (settings_.spp <= 0) throw Error("samples per pixel must be positive");
   if (settings_.bands.empty()) throw Error("no bands to render");
   if (settings_.integrator.max_depth < 1) throw Error("maximum depth must be at least 1");
+  if (settings_.integrator.light_samples < 1 || settings_.integrator.light_samples > kMaxLightSamples)
+    throw Error(
+        fmt::format("light samples must be 1 to {}; got {}", kMaxLightSamples, settings_.integrator.light_samples));
   if (band_channel_count(settings_.bands) > 64) throw Error("too many band channels (at most 64)");
   if (!(settings_.noise_threshold >= 0 && settings_.noise_threshold < 1))
     throw Error(

@@ -90,6 +90,8 @@ std::string checkpoint_key(const std::string& scene_hash, const RenderSettings& 
                                 settings.seed, settings.width, settings.height, settings.integrator.max_depth);
   for (const Band& b : settings.bands) key += " " + b.name;
   key += fmt::format(" sampler {}", sampler_name(settings.sampler));
+  if (settings.integrator.light_samples != 1)
+    key += fmt::format(" light_samples {}", settings.integrator.light_samples);
   if (settings.quantity != Quantity::radiance) key += fmt::format(" quantity {}", quantity_name(settings.quantity));
   if (settings.features) key += " features";
   if (settings.noise_threshold > 0) {

@@ -112,6 +112,8 @@ void annotate_render(Image& image, const SceneFile& file, const RenderSettings& 
   image.set_attribute("sylva:scene", file.path.empty() ? "<default scene>" : file.path.filename().string());
   image.set_attribute("sylva:scene_hash", file.content_hash);
   image.set_attribute("sylva:max_depth", std::to_string(settings.integrator.max_depth));
+  if (settings.integrator.light_samples != 1)
+    image.set_attribute("sylva:light_samples", std::to_string(settings.integrator.light_samples));
   // The kernels that traced it: renders agree bit for bit only on the same set (EmbreeIsa).
   image.set_attribute("sylva:embree_isa", embree_isa_name(resolve_embree_isa(settings.isa)));
   std::string bands;

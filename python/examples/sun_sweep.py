@@ -34,7 +34,7 @@ def main():
     args = parser.parse_args()
     elevations = [10, 25, 40, 55, 70]
     stack = sweep(args.scene, elevations, args.res, args.spp)
-    fig, (ax_img, ax_plot) = plt.subplots(1, 2, figsize=(10, 3.5))
+    fig, (ax_img, ax_plot) = plt.subplots(2, 1, figsize=(10, 6.5), height_ratios=[1, 1.6])
     strip = np.concatenate(list(stack), axis=1)
     ax_img.imshow(np.clip(strip / max(np.percentile(strip, 99), 1e-9), 0, 1) ** (1 / 2.2))
     ax_img.set_title("sun elevation " + ", ".join(f"{e}°" for e in elevations))

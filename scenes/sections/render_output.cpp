@@ -19,7 +19,7 @@ static InstanceLevel parse_instancing(const Params& t) {
 void parse_render(const Params& root, SceneBuilder& b) {
   const Params* t = root.table("render");
   t->check_keys({"width", "height", "spp", "seed", "max_depth", "bands", "quantity", "instancing", "isa", "sampler",
-                 "noise_threshold", "noise_channels", "pilot_spp", "time_limit"});
+                 "noise_threshold", "noise_channels", "pilot_spp", "time_limit", "light_samples"});
   SceneFile& out = b.file();
   RenderSettings& rs = out.render;
   rs.width = static_cast<int>(t->integer("width", rs.width, 1, 65536));
@@ -27,6 +27,8 @@ void parse_render(const Params& root, SceneBuilder& b) {
   rs.spp = static_cast<int>(t->integer("spp", rs.spp, 1, 1 << 24));
   rs.seed = static_cast<uint64_t>(t->integer("seed", static_cast<int64_t>(rs.seed), 0, INT64_MAX));
   rs.integrator.max_depth = static_cast<int>(t->integer("max_depth", rs.integrator.max_depth, 1, 1024));
+  rs.integrator.light_samples =
+      static_cast<int>(t->integer("light_samples", rs.integrator.light_samples, 1, kMaxLightSamples));
   if (t->has("bands")) {
     out.bands = t->strings("bands");
     if (out.bands.empty()) t->fail("bands", "'bands' needs at least one band, e.g. [\"rgb\", \"nir\"]");

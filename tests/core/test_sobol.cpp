@@ -120,6 +120,28 @@ TEST(Sobol, IndependentSamplerDrawsThePcg32Stream) {
   EXPECT_EQ(w, expected.uniform());
 }
 
+TEST(Sobol, SeveralDrawsOfOneUseStratifyTogether) {
+  // Draw j of n at one event (several light samples at a vertex): the pixel's first 2^m samples'
+  // n draws each are together a (0, m + log2 n, 2)-net, and draw 0 of 1 is the plain draw.
+  Pcg32 unused;
+  PathSampler s;
+  for (const uint32_t n : {1u, 2u, 4u, 8u})
+    for (int m = 0; m <= 6; ++m) {
+      std::vector<Vec2> points;
+      for (uint32_t i = 0; i < (1u << m); ++i) {
+        s.start(SamplerKind::kSobol, unused, 9, 4321, i);
+        s.start_event(1);
+        for (uint32_t j = 0; j < n; ++j) points.push_back(s.get2d(SampleDim::kLight, j, n));
+      }
+      EXPECT_TRUE(is_net(points, m + static_cast<int>(std::log2(n)))) << "n " << n << " m " << m;
+    }
+  PathSampler a, b;
+  a.start(SamplerKind::kSobol, unused, 9, 4321, 5);
+  b.start(SamplerKind::kSobol, unused, 9, 4321, 5);
+  EXPECT_EQ(a.get2d(SampleDim::kLight), b.get2d(SampleDim::kLight, 0, 1));
+  EXPECT_EQ(a.get1d(SampleDim::kLightSelect), b.get1d(SampleDim::kLightSelect, 0, 1));
+}
+
 // The estimates of ∫ f over [0, 1)² with n points of one pixel's sequence, over `runs` pixels: their
 // mean error in standard errors (z) and their root mean squared error.
 struct Convergence {

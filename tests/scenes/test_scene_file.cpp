@@ -277,6 +277,7 @@ TEST(SceneFile, EveryMistakeNamesFileAndLine) {
       {"[camera]\ntype = \"fisheye\"\n", "scene.toml:2: camera type must be \"perspective\", \"orthographic\""},
       {"[camera]\ntype = \"orthographic\"\nvfov = 40\n", "scene.toml:3: unknown key 'vfov' in [camera]"},
       {"[render]\nspp = 0\n", "scene.toml:2: 'spp' must lie in"},
+      {"[render]\nlight_samples = 9\n", "scene.toml:2: 'light_samples' must lie in"},
       {"[render]\nwidth = \"wide\"\n", "scene.toml:2: 'width' must be an integer"},
       {"[sky]\nmodel = \"perez\"\n", "scene.toml:2: sky model must be"},
       {"[sky]\nmodel = \"uniform\"\nground_albedo = 0.2\n", "scene.toml:3: ground_albedo needs model = \"cie\""},

@@ -6,6 +6,7 @@
 #include "sensor/otf.h"
 #include "sensor/resample.h"
 #include "sensor/sensor.h"
+#include "tests/support/slanted_edge.h"
 
 #include <gtest/gtest.h>
 
@@ -152,36 +153,21 @@ std::vector<float> slanted_edge(int w, int h, double angle) {
   return img;
 }
 
-// ISO 12233-style: each detector's distance to the (known) edge binned at 1/4 pitch into the edge
-// spread function, differenced into the line spread function, transformed; the binning's and the
-// difference's own sinc responses divided out.
+// ISO 12233-style (tests/support/slanted_edge.h), against the known edge through the centre.
 double slanted_edge_mtf(const std::vector<float>& d, const DetectorGrid& g, double cx_render, double cy_render,
                         double angle, double f) {
-  const double nx = std::cos(angle), ny = -std::sin(angle), bin = 0.25, reach = 12.0;
-  const int bins = static_cast<int>(2 * reach / bin);
-  std::vector<double> sum(bins, 0.0), count(bins, 0.0);
+  const double nx = std::cos(angle), ny = -std::sin(angle);
+  std::vector<test::EdgeSample> samples;
   for (int j = 6; j < g.height - 6; ++j)
     for (int i = 0; i < g.width; ++i) {
       const double px = g.x0 + (i + 0.5) * g.ratio, py = g.y0 + (j + 0.5) * g.ratio;
       const double dist = ((px - cx_render) * nx + (py - cy_render) * ny) / g.ratio;  // pitches
-      const int b = static_cast<int>(std::floor((dist + reach) / bin));
-      if (b < 0 || b >= bins) continue;
-      sum[b] += d[static_cast<size_t>(j) * g.width + i];
-      count[b] += 1;
+      samples.push_back({dist, d[static_cast<size_t>(j) * g.width + i]});
     }
-  std::vector<double> esf(bins);
-  for (int b = 0; b < bins; ++b) {
-    EXPECT_GT(count[b], 0) << "an empty bin: the edge is not slanted enough";
-    esf[b] = sum[b] / std::max(1.0, count[b]);
-  }
-  std::complex<double> ft = 0, dc = 0;
-  for (int b = 0; b + 1 < bins; ++b) {
-    const double lsf = esf[b + 1] - esf[b], x = (b + 1) * bin - reach;
-    ft += lsf * std::polar(1.0, -2 * std::numbers::pi * f * x);
-    dc += lsf;
-  }
-  const double sinc = std::sin(std::numbers::pi * f * bin) / (std::numbers::pi * f * bin);
-  return std::abs(ft) / std::abs(dc) / (sinc * sinc);
+  int empty = 0;
+  const double mtf = test::edge_mtf(samples, f, &empty);
+  EXPECT_EQ(empty, 0) << "empty bins: the edge is not slanted enough";
+  return mtf;
 }
 
 TEST(SensorSlantedEdge, RecoversTheImplementedMtfAtNyquist) {
