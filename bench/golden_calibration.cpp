@@ -211,9 +211,9 @@ void power_of(const std::string& scene, const Fault& fault, int trials, const st
       const auto [region, zs] = strongest(r);
       z.push_back(zs);
       if (!r.passed) where = region;
-      fmt::print(stderr, "{} {} spp trial {}: {} ({}, |z| {:.2f}), whole-image bias z {:+.2f}; largest: {}\n", fault.name,
-                 spp, t, r.passed ? "pass" : "FAIL", region, zs, r.channels.empty() ? 0.0 : r.channels.front().bias_z,
-                 largest_z(r));
+      fmt::print(stderr, "{} {} spp trial {}: {} ({}, |z| {:.2f}), whole-image bias z {:+.2f}; largest: {}\n",
+                 fault.name, spp, t, r.passed ? "pass" : "FAIL", region, zs,
+                 r.channels.empty() ? 0.0 : r.channels.front().bias_z, largest_z(r));
     }
     std::sort(z.begin(), z.end());
     fmt::print("| {} | {} | {} | {} / {} | {:.1f} | {} |\n", fault.name, scene, spp, detected, trials, z[z.size() / 2],
