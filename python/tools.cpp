@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <string>
 #include <tuple>
@@ -107,17 +108,20 @@ py::dict tree_mesh(const std::string& species_file, uint64_t seed, double qualit
   return out;
 }
 
-py::dict measure_arrays(const std::string& scene_file, const std::vector<std::string>& overrides, int samples,
-                        int flux_samples, int threads) {
+py::dict measure_arrays(const std::string& scene_file, const std::string& scene_text,
+                        const std::vector<std::string>& overrides, int samples, int flux_samples, int threads) {
   MeasureCallOptions options;
-  options.request.source = SceneSource::from_file(scene_file);
+  options.request.source =
+      scene_text.empty() ? SceneSource::from_file(scene_file) : SceneSource::from_text(scene_text, "<scene dict>");
   options.request.overrides = overrides;
   options.request.threads = threads;
   options.samples = samples;
   options.flux_samples = std::max(0, flux_samples);
-  // The call writes its tables as CSV; they go to a temporary folder and are returned as arrays.
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("sylva_measure_" + std::to_string(::getpid()));
+  // The call writes its tables as CSV; they go to a temporary folder of this call and are returned
+  // as arrays.
+  static std::atomic<uint64_t> calls{0};
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("sylva_measure_" + std::to_string(::getpid()) + "_" + std::to_string(calls++));
   std::filesystem::create_directories(dir);
   options.brf = dir / "brf.csv";
   options.flux = flux_samples >= 0 ? dir / "flux.csv" : std::filesystem::path();
@@ -201,8 +205,8 @@ void register_sensor(py::module_& m) {
 
 void register_tools(py::module_& m) {
   m.def("tree_mesh", &tree_mesh, py::arg("species"), py::arg("seed"), py::arg("quality"));
-  m.def("measure", &measure_arrays, py::arg("scene"), py::arg("overrides"), py::arg("samples"), py::arg("flux_samples"),
-        py::arg("threads"));
+  m.def("measure", &measure_arrays, py::arg("scene_file"), py::arg("scene_text"), py::arg("overrides"),
+        py::arg("samples"), py::arg("flux_samples"), py::arg("threads"));
   m.def("study", &run_study_file, py::arg("study"), py::arg("output_dir"), py::arg("shard_index"),
         py::arg("shard_count"), py::arg("threads"));
 }

@@ -163,11 +163,14 @@ def tree_mesh(species, seed=1, quality=1.0):
 
 
 def measure(scene, *, overrides=None, samples=0, flux_samples=0, threads=0):
-    """The plot sensor (docs/radiometry.md): BRF per view and the flux budget as arrays with standard errors.
+    """The plot sensor (docs/radiometry.md) of a scene file or dict with a [plot]: BRF per view and
+    the flux budget as arrays with standard errors.
 
     flux_samples < 0 skips the flux budget.
     """
-    return _sylva.measure(os.fspath(scene), _overrides(overrides), int(samples), int(flux_samples), int(threads))
+    text = to_toml(scene) if isinstance(scene, dict) else ""
+    path = "" if isinstance(scene, dict) else os.fspath(scene)
+    return _sylva.measure(path, text, _overrides(overrides), int(samples), int(flux_samples), int(threads))
 
 
 def study(study_file, output_dir="", *, shard=(0, 1), threads=0):

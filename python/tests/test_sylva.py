@@ -223,6 +223,37 @@ def test_tree_mesh_as_arrays():
     assert mesh["leaf_corners"].shape[0] % 4 == 0
 
 
+PLOT = {
+    "render": {"bands": ["S2A_B4", "S2A_B8"]},
+    "sun": {"elevation": 60},
+    "sky": {"model": "none"},
+    "materials": {"leaf": {"type": "leaf", "reflectance": 0.45, "transmittance": 0.45},
+                  "soil": {"reflectance": 0.2}},
+    "plot": {"size": [4, 4], "cyclic": True, "principal_plane": [-40, 40, 20], "samples": 500,
+             "flux_samples": 2000, "ground": ["soil"]},
+    "meshes": [{"shape": "plane", "size": [4, 4], "material": "soil"}],
+    "canopies": [{"type": "homogeneous", "lai": 1, "height": 1, "material": "leaf"}],
+}
+
+
+def test_the_plot_sensor_as_arrays(tmp_path):
+    tables = sylva.measure(PLOT, threads=2)
+    assert tables["brf_channels"] == ["S2A_B4.Y", "S2A_B8.Y"]
+    assert tables["brf"].shape == tables["brf_se"].shape == (5, 2)
+    assert list(tables["brf_views"][:, 0]) == [40, 20, 0, 20, 40]
+    assert (tables["brf"] > 0).all() and (tables["brf_se"] > 0).all()
+    terms = tables["flux_terms"]
+    assert tables["flux"].shape == (2, len(terms))
+    # A cyclic plot keeps energy: what is absorbed plus what leaves upwards is the incident light.
+    total = tables["flux"][:, terms.index("absorbed_plus_reflected")]
+    total_se = tables["flux_se"][:, terms.index("absorbed_plus_reflected")]
+    assert (np.abs(total - 1) <= 4 * total_se + 1e-9).all(), (total, total_se)
+    path = tmp_path / "plot.toml"
+    path.write_text(sylva.to_toml(PLOT))
+    from_file = sylva.measure(path, threads=1, flux_samples=-1)
+    assert np.array_equal(from_file["brf"], tables["brf"]) and "flux" not in from_file
+
+
 def test_a_study(tmp_path):
     (tmp_path / "scene.toml").write_text(sylva.to_toml(dict(BOX, render=dict(BOX["render"], spp=1))))
     (tmp_path / "study.toml").write_text(
