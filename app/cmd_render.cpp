@@ -74,6 +74,8 @@ CommandRun add_render_command(CLI::App& parent) {
   cmd->add_option("--view", call.preview.view, "Preview view transform (Standard, ACES, Raw)");
   cmd->add_flag("--features", req.features,
                 "Also write the denoiser's features and half-buffers (feature.*, even.*, odd.*; docs/denoise.md)");
+  cmd->add_flag("--material-ids", req.material_ids,
+                "Also write id.material (the first hit's material + 1, 0 = sky): compare tests each material's pixels");
   cmd->add_flag("--denoise", call.denoise,
                 "Denoise the image (implies --features): the beauty denoised, the noisy one kept as noisy.*");
   cmd->add_flag("--resume", call.resume, "Continue from OUT.exr.checkpoint (left by an interrupted render)");

@@ -27,6 +27,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -111,6 +112,7 @@ Image render(const Variant& v, int spp, uint64_t seed, int width, int height) {
                          s.spp = spp;
                          s.seed = seed;
                          s.progress = false;
+                         s.material_ids = true;  // the material regions of the local tests
                          if (width > 0) {
                            s.width = width;
                            s.height = height;
@@ -136,6 +138,22 @@ std::pair<std::string, double> strongest(const CompareResult& r) {
       best = &t;
   if (best == nullptr) return {r.passed ? "-" : "pixels", 0.0};
   return {fmt::format("{} {}", best->channel, region_name(*best)), std::abs(best->bias_z)};
+}
+
+// The region of largest |bias z| whether it fails or not, and the largest among material regions.
+std::string largest_z(const CompareResult& r) {
+  const RegionTest *any = nullptr, *material = nullptr;
+  for (const RegionTest& t : r.regions) {
+    if (any == nullptr || std::abs(t.bias_z) > std::abs(any->bias_z)) any = &t;
+    if (t.kind == RegionKind::Material && (material == nullptr || std::abs(t.bias_z) > std::abs(material->bias_z)))
+      material = &t;
+  }
+  std::string out;
+  for (const RegionTest* t : {any, material})
+    if (t != nullptr)
+      out += fmt::format("{}{} {} z {:+.2f} ({} px, shift {:+.2f}%)", out.empty() ? "" : "; ", t->channel,
+                         region_name(*t), t->bias_z, t->pixels, 100.0 * t->mean_shift);
+  return out;
 }
 
 void parse_res(const char* text, int& w, int& h) {
@@ -193,8 +211,9 @@ void power_of(const std::string& scene, const Fault& fault, int trials, const st
       const auto [region, zs] = strongest(r);
       z.push_back(zs);
       if (!r.passed) where = region;
-      fmt::print(stderr, "{} {} spp trial {}: {} ({}, |z| {:.2f}), whole-image bias z {:+.2f}\n", fault.name, spp, t,
-                 r.passed ? "pass" : "FAIL", region, zs, r.channels.empty() ? 0.0 : r.channels.front().bias_z);
+      fmt::print(stderr, "{} {} spp trial {}: {} ({}, |z| {:.2f}), whole-image bias z {:+.2f}; largest: {}\n",
+                 fault.name, spp, t, r.passed ? "pass" : "FAIL", region, zs,
+                 r.channels.empty() ? 0.0 : r.channels.front().bias_z, largest_z(r));
     }
     std::sort(z.begin(), z.end());
     fmt::print("| {} | {} | {} | {} / {} | {:.1f} | {} |\n", fault.name, scene, spp, detected, trials, z[z.size() / 2],

@@ -142,9 +142,10 @@ void mark_failing_regions(const Image& ref, const CompareResult& result, const P
   std::vector<uint8_t> tinted(static_cast<size_t>(ref.width) * static_cast<size_t>(ref.height), 0);
   for (const RegionTest* t : failing) {
     if (t->kind == RegionKind::Tile || t->kind == RegionKind::Grid) continue;
-    const int c = ref.find_channel(t->kind == RegionKind::Class    ? "id.class"
-                                   : t->kind == RegionKind::Object ? "id.object"
-                                                                   : "id.instance");
+    const int c = ref.find_channel(t->kind == RegionKind::Class      ? "id.class"
+                                   : t->kind == RegionKind::Object   ? "id.object"
+                                   : t->kind == RegionKind::Material ? "id.material"
+                                                                     : "id.instance");
     if (c < 0) continue;
     for (int y = t->y0; y < t->y1; ++y)
       for (int x = t->x0; x < t->x1; ++x) {

@@ -24,6 +24,8 @@ const char* region_kind_name(RegionKind kind) {
       return "object";
     case RegionKind::Sky:
       return "sky";
+    case RegionKind::Material:
+      return "material";
   }
   return "?";
 }
@@ -38,6 +40,7 @@ std::string region_name(const RegionTest& r) {
       return fmt::format("{} ({},{})", region_kind_name(r.kind), r.x0, r.y0);
     case RegionKind::Class:
     case RegionKind::Object:
+    case RegionKind::Material:
       return fmt::format("{} {}", region_kind_name(r.kind), r.label);
   }
   return "?";
@@ -137,6 +140,8 @@ RegionMaps make_region_maps(const Image& ref, const RegionOptions& options) {
     if (int c = ref.find_channel("id.instance"); c >= 0)
       maps.partitions.push_back(
           labelled(RegionKind::Sky, ref, c, options.min_pixels, [](int64_t v) { return v == 0; }));
+    if (int c = ref.find_channel("id.material"); c >= 0)
+      maps.partitions.push_back(labelled(RegionKind::Material, ref, c, options.min_pixels, positive));
   }
   std::erase_if(maps.partitions, [](const Partition& p) { return p.labels.empty(); });
   return maps;

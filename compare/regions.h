@@ -9,8 +9,9 @@
 //   grid         a coarse grid of `grid` × `grid` cells (only when its cells are at least twice a tile);
 //   class        the pixels of one `id.class` value (> 0) of the reference;
 //   object       the pixels of one `id.object` value (> 0);
-//   sky          the pixels where `id.instance` is 0 (nothing hit).
-// Label regions (class, object, sky) need the reference's id channels and at least `min_pixels`
+//   sky          the pixels where `id.instance` is 0 (nothing hit);
+//   material     the pixels of one `id.material` value (> 0): renders made with --material-ids.
+// Label regions (class, object, sky, material) need the reference's id channels and at least `min_pixels`
 // pixels; without ids they are simply absent.
 //
 // Per region and z-tested channel, over the pixels that enter the sums (finite, not rejected on
@@ -32,16 +33,17 @@
 
 namespace sylva {
 
-enum class RegionKind : uint8_t { Image, Tile, Grid, Class, Object, Sky };
+enum class RegionKind : uint8_t { Image, Tile, Grid, Class, Object, Sky, Material };
 
-const char* region_kind_name(RegionKind kind);  // "image", "tile", "grid", "class", "object", "sky"
+// "image", "tile", "grid", "class", "object", "sky", "material"
+const char* region_kind_name(RegionKind kind);
 
 inline constexpr int64_t kMinVariancePixels = 32;
 
 struct RegionTest {
   std::string channel;
   RegionKind kind = RegionKind::Image;
-  int64_t label = 0;   // class or object id; tile or grid cell index; 0 for image and sky
+  int64_t label = 0;   // class, object or material id; tile or grid cell index; 0 for image and sky
   int x0 = 0, y0 = 0;  // bounding box of the region's pixels: [x0, x1) × [y0, y1)
   int x1 = 0, y1 = 0;
   int64_t pixels = 0;  // pixels in the region
@@ -56,14 +58,14 @@ struct RegionTest {
   bool failed() const { return bias_failed || variance_failed; }
 };
 
-// "image", "sky", "class 3", "object 12", "tile (32,16)", "grid (64,0)".
+// "image", "sky", "class 3", "object 12", "material 4", "tile (32,16)", "grid (64,0)".
 std::string region_name(const RegionTest& region);
 
 struct RegionOptions {
   int tile = 16;            // tile size; 0: no tiles
   int grid = 4;             // coarse grid cells per side; 0: none
   int64_t min_pixels = 64;  // smallest class, object or sky region tested
-  bool labels = true;       // class, object and sky regions (when the reference has ids)
+  bool labels = true;       // class, object, sky and material regions (when the reference has ids)
   bool variance = true;     // the variance test beside the bias test
 };
 

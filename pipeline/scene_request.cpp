@@ -90,6 +90,7 @@ RenderJob prepare_render(const RenderRequest& request) {
   if (request.time_limit_s >= 0) settings.time_limit_s = request.time_limit_s;
   settings.progress = request.progress;
   settings.features = settings.features || request.features;
+  settings.material_ids = settings.material_ids || request.material_ids;
   return job;
 }
 
@@ -111,6 +112,7 @@ std::map<std::string, std::string> describe_job(const RenderRequest& request, co
       {"isa", embree_isa_name(s.isa)}};
   // Hexadecimal: the exact double, so the merge rebuilds the same scene.
   if (s.features) fields.emplace("features", "yes");
+  if (s.material_ids) fields.emplace("material_ids", "yes");
   if (s.noise_threshold > 0) {
     fields["noise_threshold"] = fmt::format("{:a}", static_cast<double>(s.noise_threshold));
     std::string channels;
@@ -133,6 +135,7 @@ RenderRequest request_from_job(const std::map<std::string, std::string>& fields,
   if (const auto it = fields.find("quantity"); it != fields.end()) r.quantity = it->second;
   if (const auto it = fields.find("isa"); it != fields.end()) r.isa = it->second;
   r.features = fields.count("features") > 0;
+  r.material_ids = fields.count("material_ids") > 0;
   if (const auto it = fields.find("noise_threshold"); it != fields.end()) {
     char* end = nullptr;
     r.noise_threshold = std::strtod(it->second.c_str(), &end);

@@ -49,6 +49,7 @@ struct RenderRequest {
   double time_limit_s = -1;     // seconds (RenderSettings::time_limit_s); < 0: the file's
   bool progress = false;
   bool features = false;         // gather the denoiser's features (RenderSettings::features)
+  bool material_ids = false;     // write id.material (RenderSettings::material_ids)
   std::optional<double> time_s;  // wind time of every tree (SceneOptions::time_s)
   // `section.key=value` overrides of the scene's TOML (--set; SceneOptions::overrides).
   std::vector<std::string> overrides;

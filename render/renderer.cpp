@@ -302,6 +302,7 @@ Image Renderer::make_image(const Film& film) const {
   add("id.object", PixelType::UInt);
   add("id.class", PixelType::UInt);
   add("id.variant", PixelType::UInt);
+  if (settings_.material_ids) add("id.material", PixelType::UInt);
   // The samples each pixel took, where they vary (adaptive sampling, a progressive render).
   const bool spp_channel = adaptive() || progressive();
   if (spp_channel) add("spp", PixelType::UInt);
@@ -319,6 +320,7 @@ Image Renderer::make_image(const Film& film) const {
   Image image = sylva::make_image(window.width(), window.height(), names);
   image.types = types;
   const int z = static_cast<int>(3 * nc);
+  const int material = settings_.material_ids ? z + 11 : -1;
   const Vec3 forward = glm::normalize(scene_.camera.target - scene_.camera.position);
 
   tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
@@ -350,6 +352,7 @@ Image Renderer::make_image(const Film& film) const {
           image.at(ix, iy, z + 8) = static_cast<float>(inst.object_id);
           image.at(ix, iy, z + 9) = static_cast<float>(inst.class_id);
           image.at(ix, iy, z + 10) = static_cast<float>(inst.variant_id);
+          if (material >= 0) image.at(ix, iy, material) = static_cast<float>(si.material + 1);
         } else {
           image.at(ix, iy, z) = 1e10f;
           // The sky: a point 10¹⁰ m along the ray, like Z.

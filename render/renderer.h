@@ -39,6 +39,10 @@ struct RenderSettings {
   // Also gather the denoiser's features and half-buffers (make_image; docs/denoise.md): more film
   // channels and one occlusion ray per camera path; the other channels keep their bits.
   bool features = false;
+  // Also write "id.material" (make_image): the first hit's material index + 1, 0 for the sky. Off by
+  // default, so the default EXR keeps its channels; the compare's local tests test each material's
+  // pixels as a region (docs/compare.md, "Local tests").
+  bool material_ids = false;
   // Embree's kernels (EmbreeIsa): at most AVX2 unless asked, so the bits are the same on every
   // processor with AVX2.
   EmbreeIsa isa = EmbreeIsa::kAvx2;
@@ -137,7 +141,8 @@ class Renderer {
   // depth in m; 1e10 for the sky), "N.X/N.Y/N.Z" (world geometric normal facing the camera),
   // "P.X/P.Y/P.Z" (world position of the hit, m; for the sky the point 1e10 m along the ray),
   // "id.instance" (instance index + 1, 0 = sky), "id.object", "id.class" (Instance::class_id, 0 = sky)
-  // and "id.variant" (Instance::variant_id, 0 = sky or none).
+  // and "id.variant" (Instance::variant_id, 0 = sky or none); with settings.material_ids,
+  // "id.material" (the hit's material index in Scene::materials + 1, 0 = sky).
   // With settings.features, after those, the denoiser's channels, each a mean over the pixel's
   // samples (docs/denoise.md): "even.<C>" and "odd.<C>" (the means of the even- and odd-indexed
   // samples of each band channel), "feature.albedo.<C>" (the albedo AOV with the sky counted as 1),
