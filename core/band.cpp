@@ -4,6 +4,8 @@
 #include "core/error.h"
 #include "core/table.h"
 
+#include <fmt/core.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -81,6 +83,22 @@ Band make_srf_band(const std::string& name, const DenseSpectrum& response_in) {
   // response cannot be negative, so those values are set to zero.
   DenseSpectrum response = response_in;
   for (int i = 0; i < kLambdaSamples; ++i) response[i] = std::max(0.0f, response[i]);
+  // The response is read on the spectral grid, zero outside its table: a band beyond the grid has
+  // no weight on it, and one whose response is still above 0.1 % of its peak at an end of the grid
+  // crosses it and would be cut off there without a word (a table that starts at 300 nm with zero
+  // there keeps a trace at the first sample, which the grid's box filter spreads: not a crossing).
+  const std::string range = fmt::format("{:.0f}–{:.0f} nm", kLambdaMin, kLambdaMax);
+  if (!(response.integral() > 0))
+    throw Error(
+        fmt::format("band '{}': its spectral response has no weight in Sylva's spectral range, {} "
+                    "(thermal bands beyond {:.0f} nm are not supported yet)",
+                    name, range, kLambdaMax));
+  const float edge = 1e-3f * response.max_value();
+  if (response[0] > edge || response[kLambdaSamples - 1] > edge)
+    throw Error(
+        fmt::format("band '{}': its spectral response is non-zero at {:.0f} nm, an end of Sylva's spectral "
+                    "range {}; a band must lie inside the range, its response falling to zero there",
+                    name, response[0] > edge ? kLambdaMin : kLambdaMax, range));
   Band b;
   b.name = name;
   b.channels = {name + ".Y"};

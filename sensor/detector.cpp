@@ -13,9 +13,8 @@ namespace sylva {
 
 namespace {
 
-constexpr double kPlanck = 6.62607015e-34;   // J·s
-constexpr double kLight = 299792458.0;       // m/s
-constexpr double kBoltzmann = 1.380649e-23;  // J/K
+constexpr double kPlanck = 6.62607015e-34;  // J·s
+constexpr double kLight = 299792458.0;      // m/s
 
 // The kinds of random number per detector.
 enum Kind : uint64_t { kPrnu = 1, kDsnu, kFpn, kNuc, kShot, kRead, kNetd };
@@ -90,18 +89,6 @@ ChannelCalibration calibrate_channel(const SensorParams& params, const SensorCha
   return c;
 }
 
-double planck_radiance(double lambda_nm, double temperature_k) {
-  const double l = lambda_nm * 1e-9;
-  const double x = kPlanck * kLight / (l * kBoltzmann * temperature_k);
-  return 2.0 * kPlanck * kLight * kLight / std::pow(l, 5) / std::expm1(x) * 1e-9;
-}
-
-double planck_derivative(double lambda_nm, double temperature_k) {
-  const double l = lambda_nm * 1e-9;
-  const double x = kPlanck * kLight / (l * kBoltzmann * temperature_k);
-  return planck_radiance(lambda_nm, temperature_k) * x * std::exp(x) / std::expm1(x) / temperature_k;
-}
-
 std::vector<float> detect_channel(const std::vector<float>& radiance, int width, int height, int channel_index,
                                   const SensorParams& params, const ChannelCalibration& cal,
                                   const SensorChannel& channel, double time_s, uint64_t noise_seed) {
@@ -109,7 +96,7 @@ std::vector<float> detect_channel(const std::vector<float>& radiance, int width,
   const double top = adc_max(d);
   const uint64_t fixed = params.seed;
   std::vector<float> dn(radiance.size());
-  const double slope = d.thermal ? planck_derivative(channel.centre_nm, d.reference_temperature_k) : 0.0;
+  const double slope = d.thermal ? planck_radiance_dt(channel.centre_nm, d.reference_temperature_k) : 0.0;
   const double l_ref = d.thermal ? planck_radiance(channel.centre_nm, d.reference_temperature_k) : 0.0;
   tbb::parallel_for(0, height, [&](int y) {
     for (int x = 0; x < width; ++x) {

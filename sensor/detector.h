@@ -5,6 +5,7 @@
 // (seed, channel, detector, kind), so the result depends on nothing else (not the thread count);
 // the fixed patterns use SensorParams::seed alone, so they stay the same over frames.
 
+#include "core/planck.h"  // planck_radiance, planck_radiance_dt: the thermal channels' scale
 #include "sensor/otf.h"
 #include "sensor/sensor_params.h"
 
@@ -36,10 +37,6 @@ double channel_qe(const DetectorParams& detector, const SensorChannel& channel);
 
 // The calibration of a channel at integration time `time_s`.
 ChannelCalibration calibrate_channel(const SensorParams& params, const SensorChannel& channel, double time_s);
-
-// Planck's spectral radiance (W·m⁻²·sr⁻¹·nm⁻¹) and its temperature derivative (per K).
-double planck_radiance(double lambda_nm, double temperature_k);
-double planck_derivative(double lambda_nm, double temperature_k);
 
 // The digital numbers of one channel: `radiance` is the mean over each detector (width × height);
 // `channel_index` keeps the channels' noise apart; `noise_seed` seeds the temporal noise.

@@ -2,10 +2,12 @@
 // summaries `sylva bands` prints (centre, FWHM, equivalent width) of responses with known values.
 
 #include "core/band.h"
+#include "core/error.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 namespace sylva {
 namespace {
@@ -66,6 +68,39 @@ TEST(Band, SentinelTwoCentresAreWhereEsaStatesThem) {
   EXPECT_NEAR(summarise_channel(resolve_band("S2A_B4").weights[0]).centre_nm, 664.6, 3.0);
   EXPECT_NEAR(summarise_channel(resolve_band("S2A_B8").weights[0]).centre_nm, 832.8, 3.0);
   EXPECT_NEAR(summarise_channel(resolve_band("S2A_B8A").weights[0]).centre_nm, 864.7, 3.0);
+}
+
+namespace band_range_test {
+
+DenseSpectrum box(double lo_nm, double hi_nm) {
+  return DenseSpectrum::from_samples({lo_nm - 1e-3, lo_nm, hi_nm, hi_nm + 1e-3}, {0, 1, 1, 0}, Extrapolate::Zero);
+}
+
+std::string refusal(double lo_nm, double hi_nm) {
+  try {
+    make_srf_band("test", box(lo_nm, hi_nm));
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace band_range_test
+
+TEST(Band, ResponsesOutsideOrAcrossTheSpectralRangeAreRefused) {
+  using band_range_test::refusal;
+  // Wholly outside (a thermal band, 8–12 µm): the message names the range.
+  const std::string lwir = refusal(8000, 12000);
+  EXPECT_NE(lwir.find("no weight in Sylva's spectral range, 300–2500 nm"), std::string::npos) << lwir;
+  EXPECT_NE(lwir.find("band 'test'"), std::string::npos) << lwir;
+  // Across either end: refused, not cut off.
+  const std::string swir = refusal(2200, 2700);
+  EXPECT_NE(swir.find("non-zero at 2500 nm"), std::string::npos) << swir;
+  const std::string uv = refusal(250, 400);
+  EXPECT_NE(uv.find("non-zero at 300 nm"), std::string::npos) << uv;
+  // Inside, up to the ends with zero response there: accepted.
+  EXPECT_EQ(refusal(2200, 2450), "");
+  EXPECT_EQ(refusal(320, 400), "");
 }
 
 }  // namespace

@@ -104,7 +104,7 @@ TEST(SensorDetector, UniformBlackbodyPlateGivesTheSetNetd) {
       for (int x = 0; x < a.grid.width; ++x) da.push_back(a.image.at(x, y, 0)), db.push_back(b.image.at(x, y, 0));
     const Moments m = frame_pair_moments(da, db);
     const double sigma_l = std::sqrt(m.var) * a.calibration[0].radiance_per_dn;
-    const double measured_mk = sigma_l / planck_derivative(10000.0, 300.0) * 1e3;
+    const double measured_mk = sigma_l / planck_radiance_dt(10000.0, 300.0) * 1e3;
     EXPECT_NEAR(measured_mk / netd_mk, 1.0, 0.03) << "measured NETD " << measured_mk << " mK";
     // The calibration gives the plate's radiance back (fixed patterns average out).
     EXPECT_NEAR((m.mean - a.calibration[0].dn_offset) * a.calibration[0].radiance_per_dn / l300, 1.0, 1e-3);
