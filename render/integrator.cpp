@@ -114,10 +114,7 @@ LightSample Integrator::sample_light(const SampledWavelengths& wl, Pcg32& rng) c
 }
 
 LightSample Integrator::sample_light(const SampledWavelengths& wl, PathSampler& sampler) const {
-  const Vec2 u_light = sampler.get2d(SampleDim::kLight);
-  const float u_select = sampler.get1d(SampleDim::kLightSelect);
-  if (environment_.empty()) return LightSample{Vec3(0.0f), SampledSpectrum(0.0f), 0.0f};
-  return environment_.sample(u_light, u_select, wl);
+  return sample_light(wl, sampler, 0, 1);  // draw 0 of 1 is the plain draw (PathSampler::get2d)
 }
 
 LightSample Integrator::sample_light(const SampledWavelengths& wl, PathSampler& sampler, uint32_t j, uint32_t n) const {
@@ -447,7 +444,7 @@ void Integrator::scatter_at_surface(PathState& path, const RayHit& hit) const {
 void Integrator::sample_sky_at_surface(PathState& path, const SurfaceVertex& v, uint32_t j, uint32_t n) const {
   // With n samples each counts 1/n of the estimate, weighted against the BSDF sample by the power
   // heuristic on n·p_light (Veach 1997 §9.2.4): x = w, y = n·p_light.
-  const LightSample ls = n == 1 ? sample_light(*v.ctx.wl, *path.sampler) : sample_light(*v.ctx.wl, *path.sampler, j, n);
+  const LightSample ls = sample_light(*v.ctx.wl, *path.sampler, j, n);
   if (!(ls.pdf > 0) || is_black(ls.radiance)) return;
   const Vec3 wi_local = v.frame.to_local(ls.wi);
   const float cos_g = glm::dot(ls.wi, v.ng);
